@@ -1,0 +1,163 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRImageFilterBase_h
+#define itkDRRImageFilterBase_h
+
+#include "itkImageToImageFilter.h"
+#include "itkTransform.h"
+#include "itkDRRAttenuationVolume.h"
+#include "itkDRRPointProjection.h"
+#include "itkDRRProjectionGeometry.h"
+#include "itkDRRTransferFunction.h"
+
+#include <vector>
+
+namespace itk
+{
+/** \class DRRImageFilterBase
+ * \brief What every DRR filter of the module shares: a 3D volume in, a projection out, placed by a
+ * DRRProjectionGeometry, with an optional linear transform and a transfer function.
+ *
+ * - Input: a 3D scalar image (HU, or mu in 1/mm with an Identity transfer function). Its origin, spacing and
+ *   direction are honoured; NaN or infinite voxels and negative attenuation are rejected with an exception.
+ * - Output: a 2D image (cols x rows, spacing du x dv, origin at the centre of pixel (0, 0) in detector-plane
+ *   coordinates, see DRRProjectionGeometry) or a 3D one-slice image placed in the room (direction (u, v, -n)), as
+ *   ITK's classic 2D-3D registration uses.
+ * - Transform: as in ITK registration and itk::RayCastInterpolateImageFunction, it maps a room point to the
+ *   volume's physical frame (moving the volume by its inverse). It must be linear; a scaling part is honoured
+ *   (lengths are measured in the room).
+ * - OutputMode: LineIntegral (default), Transmission exp(-L), Gray8 / Gray16 (window level / width in line-integral
+ *   units; width 0 means the image's own range).
+ *
+ * The attenuation volume (mu per voxel) is computed once per input and transfer function and reused across updates
+ * that change only the geometry or transform, as registration does.
+ *
+ * \ingroup PointBasedDRR
+ */
+template <typename TInputImage, typename TOutputImage>
+class ITK_TEMPLATE_EXPORT DRRImageFilterBase : public ImageToImageFilter<TInputImage, TOutputImage>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(DRRImageFilterBase);
+
+  using Self = DRRImageFilterBase;
+  using Superclass = ImageToImageFilter<TInputImage, TOutputImage>;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkTypeMacro(DRRImageFilterBase, ImageToImageFilter);
+
+  using InputImageType = TInputImage;
+  using InputPixelType = typename InputImageType::PixelType;
+  using OutputImageType = TOutputImage;
+  using OutputPixelType = typename OutputImageType::PixelType;
+  using OutputImageRegionType = typename OutputImageType::RegionType;
+  using TransformType = Transform<double, 3, 3>;
+  using GeometryType = DRRProjectionGeometry;
+  using TransferFunctionType = DRRTransferFunction;
+  using OutputModeEnum = PointBasedDRREnums::OutputMode;
+
+  static constexpr unsigned int InputImageDimension = TInputImage::ImageDimension;
+  static constexpr unsigned int OutputImageDimension = TOutputImage::ImageDimension;
+  static_assert(InputImageDimension == 3, "DRR filters take a 3D volume");
+  static_assert(OutputImageDimension == 2 || OutputImageDimension == 3,
+                "DRR filters write a 2D image or a 3D image with one slice");
+  static_assert(std::is_arithmetic<InputPixelType>::value, "DRR filters take scalar voxels");
+
+  /** The projection geometry. A default one (perspective, SAD 1000 mm, SID 1500 mm, 256 x 256 at 1 mm) exists. */
+  itkSetObjectMacro(Geometry, GeometryType);
+  itkGetModifiableObjectMacro(Geometry, GeometryType);
+
+  /** Optional linear transform, room -> volume physical frame. */
+  itkSetConstObjectMacro(Transform, TransformType);
+  itkGetConstObjectMacro(Transform, TransformType);
+
+  /** Input value -> mu (1/mm). Default: natural, 60 keV. */
+  itkSetObjectMacro(TransferFunction, TransferFunctionType);
+  itkGetModifiableObjectMacro(TransferFunction, TransferFunctionType);
+
+  itkSetEnumMacro(OutputMode, OutputModeEnum);
+  itkGetConstMacro(OutputMode, OutputModeEnum);
+
+  /** Gray-level window, line-integral units. Width 0 (default): the image's own minimum to maximum. */
+  itkSetMacro(WindowLevel, double);
+  itkGetConstMacro(WindowLevel, double);
+  itkSetMacro(WindowWidth, double);
+  itkGetConstMacro(WindowWidth, double);
+
+  /** The attenuation model of the current input (built on demand). */
+  const DRRAttenuationVolume *
+  GetAttenuationVolume();
+
+  /** Includes the geometry, transform and transfer function. */
+  ModifiedTimeType
+  GetMTime() const override;
+
+protected:
+  DRRImageFilterBase();
+  ~DRRImageFilterBase() override = default;
+
+  void
+  GenerateOutputInformation() override;
+  void
+  GenerateInputRequestedRegion() override;
+  void
+  EnlargeOutputRequestedRegion(DataObject * output) override;
+  /** Input and output live in different spaces: nothing to compare. */
+  void
+  VerifyInputInformation() ITKv5_CONST override
+  {}
+
+  /** The affine map of the transform (identity without one); throws for a non-linear transform. */
+  void
+  ComputeTransformAffine(DRRPointProjection::MatrixType & matrix, DRRPointProjection::VectorType & offset) const;
+
+  /** The projection mapping for the current geometry, volume and transform. */
+  DRRPointProjection
+  MakeProjection();
+
+  /** Converts a line-integral image to the output mode and writes it into output number index. */
+  void
+  WriteOutput(const std::vector<double> & lineIntegral, unsigned int index, bool applyOutputMode);
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  void
+  BuildAttenuationVolume();
+
+  typename GeometryType::Pointer         m_Geometry;
+  typename TransformType::ConstPointer   m_Transform;
+  typename TransferFunctionType::Pointer m_TransferFunction;
+  OutputModeEnum                         m_OutputMode{ OutputModeEnum::LineIntegral };
+  double                                 m_WindowLevel{ 0.0 };
+  double                                 m_WindowWidth{ 0.0 };
+
+  DRRAttenuationVolume::Pointer m_AttenuationVolume;
+  const InputImageType *        m_AttenuationVolumeInput{ nullptr };
+  ModifiedTimeType              m_AttenuationVolumeInputTime{ 0 };
+  ModifiedTimeType              m_AttenuationVolumeTransferTime{ 0 };
+};
+} // namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#include "itkDRRImageFilterBase.hxx"
+#endif
+
+#endif

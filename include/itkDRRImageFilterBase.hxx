@@ -1,0 +1,370 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRImageFilterBase_hxx
+#define itkDRRImageFilterBase_hxx
+
+#include "itkDRRImageFilterBase.h"
+#include "itkImageRegionConstIterator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace itk
+{
+template <typename TInputImage, typename TOutputImage>
+DRRImageFilterBase<TInputImage, TOutputImage>::DRRImageFilterBase()
+  : m_Geometry(GeometryType::New()), m_TransferFunction(TransferFunctionType::New())
+{
+  this->SetNumberOfRequiredInputs(1);
+}
+
+template <typename TInputImage, typename TOutputImage>
+ModifiedTimeType
+DRRImageFilterBase<TInputImage, TOutputImage>::GetMTime() const
+{
+  ModifiedTimeType latest = Superclass::GetMTime();
+  if (m_Geometry)
+  {
+    latest = std::max(latest, m_Geometry->GetMTime());
+  }
+  if (m_Transform)
+  {
+    latest = std::max(latest, m_Transform->GetMTime());
+  }
+  if (m_TransferFunction)
+  {
+    latest = std::max(latest, m_TransferFunction->GetMTime());
+  }
+  return latest;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::GenerateOutputInformation()
+{
+  if (!m_Geometry)
+  {
+    itkExceptionMacro("no projection geometry set");
+  }
+  m_Geometry->VerifyGeometry();
+  const auto & detectorSize = m_Geometry->GetDetectorSize();
+  const auto & detectorSpacing = m_Geometry->GetDetectorSpacing();
+
+  typename OutputImageType::SizeType      size;
+  typename OutputImageType::IndexType     start;
+  typename OutputImageType::SpacingType   spacing;
+  typename OutputImageType::PointType     origin;
+  typename OutputImageType::DirectionType direction;
+  start.Fill(0);
+  direction.SetIdentity();
+  for (unsigned int d = 0; d < 2; ++d)
+  {
+    size[d] = detectorSize[d];
+    spacing[d] = detectorSpacing[d];
+  }
+  if (OutputImageDimension == 2)
+  {
+    const auto origin2D = m_Geometry->GetDetectorOrigin2D();
+    origin[0] = origin2D[0];
+    origin[1] = origin2D[1];
+  }
+  else
+  {
+    // One slice placed in the room: origin at pixel (0, 0), axes (u, v, -n).
+    const auto u = m_Geometry->GetColumnDirection();
+    const auto v = m_Geometry->GetRowDirection();
+    const auto n = m_Geometry->GetNormal();
+    const auto pixel00 = m_Geometry->GetPixelCenter(0.0, 0.0);
+    for (unsigned int r = 0; r < 3; ++r)
+    {
+      origin[r] = pixel00[r];
+      direction[r][0] = u[r];
+      direction[r][1] = v[r];
+      direction[r][2] = -n[r];
+    }
+    size[OutputImageDimension - 1] = 1;
+    spacing[OutputImageDimension - 1] = 1.0;
+  }
+  const OutputImageRegionType region(start, size);
+  for (unsigned int i = 0; i < this->GetNumberOfIndexedOutputs(); ++i)
+  {
+    OutputImageType * output = this->GetOutput(i);
+    if (output)
+    {
+      output->SetLargestPossibleRegion(region);
+      output->SetSpacing(spacing);
+      output->SetOrigin(origin);
+      output->SetDirection(direction);
+    }
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
+{
+  Superclass::GenerateInputRequestedRegion();
+  auto * input = const_cast<InputImageType *>(this->GetInput());
+  if (input)
+  {
+    input->SetRequestedRegionToLargestPossibleRegion();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::EnlargeOutputRequestedRegion(DataObject * output)
+{
+  Superclass::EnlargeOutputRequestedRegion(output);
+  output->SetRequestedRegionToLargestPossibleRegion();
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
+{
+  const InputImageType * input = this->GetInput();
+  if (!input)
+  {
+    itkExceptionMacro("no input volume");
+  }
+  const auto region = input->GetLargestPossibleRegion();
+  if (region.GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro("the input volume is empty (size " << region.GetSize() << ")");
+  }
+  if (input->GetBufferedRegion() != region)
+  {
+    itkExceptionMacro("the whole input volume must be buffered (buffered " << input->GetBufferedRegion() << ", largest "
+                                                                           << region << ")");
+  }
+
+  auto                           volume = DRRAttenuationVolume::New();
+  DRRAttenuationVolume::SizeType size;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    size[a] = region.GetSize()[a];
+  }
+  volume->Allocate(size);
+  DRRAttenuationVolume::MatrixType indexToPhysical;
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int c = 0; c < 3; ++c)
+    {
+      indexToPhysical[r][c] = input->GetDirection()[r][c] * input->GetSpacing()[c];
+    }
+  }
+  typename InputImageType::PointType firstVoxel;
+  input->TransformIndexToPhysicalPoint(region.GetIndex(), firstVoxel);
+  DRRAttenuationVolume::PointType origin;
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    origin[r] = firstVoxel[r];
+  }
+  volume->SetIndexToPhysical(indexToPhysical, origin);
+
+  const TransferFunctionType & transfer = *m_TransferFunction;
+  const InputPixelType *       values = input->GetBufferPointer();
+  float *                      mu = volume->GetMuBuffer();
+  const uint64_t               numberOfVoxels = volume->GetNumberOfVoxels();
+  auto                         reportVoxel = [&](uint64_t v) {
+    std::ostringstream where;
+    where << "voxel (" << v % size[0] << ", " << (v / size[0]) % size[1] << ", " << v / (size[0] * size[1]) << ")";
+    return where.str();
+  };
+  auto checkedMu = [&](double value, uint64_t v) {
+    if (!std::isfinite(value))
+    {
+      itkExceptionMacro("the input volume has a non-finite value (" << value << ") at " << reportVoxel(v));
+    }
+    const double attenuation = transfer.Evaluate(value);
+    if (!(attenuation >= 0.0) || !std::isfinite(attenuation))
+    {
+      itkExceptionMacro("negative or non-finite attenuation " << attenuation << " /mm from input value " << value
+                                                              << " at " << reportVoxel(v)
+                                                              << " (is the input in the units the transfer function "
+                                                                 "expects?)");
+    }
+    return static_cast<float>(attenuation);
+  };
+
+  bool levelsBuilt = false;
+  if (std::numeric_limits<InputPixelType>::is_integer)
+  {
+    // Integer input (CT in HU): one level per input value, mu from a look-up table of the values present.
+    const auto   range = std::minmax_element(values, values + numberOfVoxels);
+    const double lowest = static_cast<double>(*range.first);
+    const double span = static_cast<double>(*range.second) - lowest;
+    if (span < 1048576.0)
+    {
+      const size_t       numberOfLevels = static_cast<size_t>(span) + 1;
+      std::vector<float> table(numberOfLevels, -1.0f);
+      std::vector<bool>  present(numberOfLevels, false);
+      auto &             keys = volume->GetLevelKeys();
+      keys.resize(numberOfVoxels);
+      for (uint64_t v = 0; v < numberOfVoxels; ++v)
+      {
+        const uint32_t key = static_cast<uint32_t>(static_cast<double>(values[v]) - lowest);
+        if (!present[key])
+        {
+          table[key] = checkedMu(static_cast<double>(values[v]), v);
+          present[key] = true;
+        }
+        keys[v] = key;
+        mu[v] = table[key];
+      }
+      levelsBuilt = true;
+    }
+  }
+  if (!levelsBuilt)
+  {
+    for (uint64_t v = 0; v < numberOfVoxels; ++v)
+    {
+      mu[v] = checkedMu(static_cast<double>(values[v]), v);
+    }
+  }
+  m_AttenuationVolume = volume;
+  m_AttenuationVolumeInput = input;
+  m_AttenuationVolumeInputTime = input->GetMTime();
+  m_AttenuationVolumeTransferTime = m_TransferFunction->GetMTime();
+}
+
+template <typename TInputImage, typename TOutputImage>
+const DRRAttenuationVolume *
+DRRImageFilterBase<TInputImage, TOutputImage>::GetAttenuationVolume()
+{
+  const InputImageType * input = this->GetInput();
+  if (!m_AttenuationVolume || input != m_AttenuationVolumeInput || !input ||
+      input->GetMTime() != m_AttenuationVolumeInputTime ||
+      m_TransferFunction->GetMTime() != m_AttenuationVolumeTransferTime)
+  {
+    this->BuildAttenuationVolume();
+  }
+  return m_AttenuationVolume.GetPointer();
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::ComputeTransformAffine(DRRPointProjection::MatrixType & matrix,
+                                                                      DRRPointProjection::VectorType & offset) const
+{
+  matrix.SetIdentity();
+  offset.Fill(0.0);
+  if (!m_Transform)
+  {
+    return;
+  }
+  if (!m_Transform->IsLinear())
+  {
+    itkExceptionMacro("the transform " << m_Transform->GetNameOfClass()
+                                       << " is not linear; DRR filters accept linear (rigid, affine) transforms");
+  }
+  typename TransformType::InputPointType zero;
+  zero.Fill(0.0);
+  const auto image0 = m_Transform->TransformPoint(zero);
+  for (unsigned int c = 0; c < 3; ++c)
+  {
+    typename TransformType::InputPointType unit = zero;
+    unit[c] = 1.0;
+    const auto imageC = m_Transform->TransformPoint(unit);
+    for (unsigned int r = 0; r < 3; ++r)
+    {
+      matrix[r][c] = imageC[r] - image0[r];
+    }
+  }
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    offset[r] = image0[r];
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPointProjection
+DRRImageFilterBase<TInputImage, TOutputImage>::MakeProjection()
+{
+  DRRPointProjection::MatrixType matrix;
+  DRRPointProjection::VectorType offset;
+  this->ComputeTransformAffine(matrix, offset);
+  return DRRPointProjection(*m_Geometry, *this->GetAttenuationVolume(), matrix, offset);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutput(const std::vector<double> & lineIntegral,
+                                                           unsigned int                index,
+                                                           bool                        applyOutputMode)
+{
+  OutputImageType * output = this->GetOutput(index);
+  output->SetBufferedRegion(output->GetRequestedRegion());
+  output->Allocate();
+  if (output->GetBufferedRegion().GetNumberOfPixels() != lineIntegral.size())
+  {
+    itkExceptionMacro("internal error: projection of " << lineIntegral.size() << " pixels for an output of "
+                                                       << output->GetBufferedRegion().GetNumberOfPixels());
+  }
+  const OutputModeEnum mode = applyOutputMode ? m_OutputMode : OutputModeEnum::LineIntegral;
+  const bool           gray = mode == OutputModeEnum::Gray8 || mode == OutputModeEnum::Gray16;
+  if (!gray && std::numeric_limits<OutputPixelType>::is_integer)
+  {
+    itkExceptionMacro("an integer output pixel type holds only the Gray8 or Gray16 output modes, not " << mode);
+  }
+  double low = m_WindowLevel - 0.5 * m_WindowWidth;
+  double width = m_WindowWidth;
+  if (gray && !(width > 0.0))
+  {
+    const auto range = std::minmax_element(lineIntegral.begin(), lineIntegral.end());
+    low = *range.first;
+    width = std::max(*range.second - *range.first, std::numeric_limits<double>::min());
+  }
+  const double      grayMaximum = mode == OutputModeEnum::Gray8 ? 255.0 : 65535.0;
+  OutputPixelType * buffer = output->GetBufferPointer();
+  for (size_t p = 0; p < lineIntegral.size(); ++p)
+  {
+    const double value = lineIntegral[p];
+    double       converted = value;
+    if (mode == OutputModeEnum::Transmission)
+    {
+      converted = std::exp(-value);
+    }
+    else if (gray)
+    {
+      converted = std::floor(std::min(1.0, std::max(0.0, (value - low) / width)) * grayMaximum + 0.5);
+    }
+    buffer[p] = static_cast<OutputPixelType>(converted);
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "Geometry:" << std::endl;
+  m_Geometry->Print(os, indent.GetNextIndent());
+  os << indent << "Transform: " << (m_Transform ? m_Transform->GetNameOfClass() : "(none)") << std::endl;
+  os << indent << "TransferFunction:" << std::endl;
+  m_TransferFunction->Print(os, indent.GetNextIndent());
+  os << indent << "OutputMode: " << m_OutputMode << std::endl;
+  os << indent << "WindowLevel: " << m_WindowLevel << std::endl;
+  os << indent << "WindowWidth: " << m_WindowWidth << std::endl;
+}
+} // namespace itk
+
+#endif

@@ -1,0 +1,215 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRPointProjection_h
+#define itkDRRPointProjection_h
+
+#include "itkDRRAttenuationVolume.h"
+#include "itkDRRProjectionGeometry.h"
+#include "PointBasedDRRExport.h"
+
+#include <array>
+#include <cmath>
+
+namespace itk
+{
+/** \class DRRPointProjection
+ * \brief Everything one render needs to map a continuous voxel index to the detector, precomputed.
+ *
+ * The room-to-volume map (an optional linear itk::Transform, as in ITK registration: it maps a room point to the
+ * volume's physical frame) and the volume's index-to-physical map are folded into one affine map from continuous
+ * index to room coordinates. From it, for a point p (continuous index):
+ *
+ *   depth z = (x(p) - S) . (-n)      (mm, from the source along the detector normal; perspective)
+ *   pu, pv  = (x(p) - S) . u, . v    (mm)
+ *   column  = SID pu / z / du + c0    (perspective) or pu / du + c0 (parallel), c0 = (cols-1)/2 - offset_u/du
+ *   weight  = (SID / z)^2 sqrt(1 + (pu/z)^2 + (pv/z)^2)   (perspective), 1 (parallel)
+ *
+ * which are affine in p up to one division. A perspective point counts only for 0 < z <= SID (between source and
+ * detector plane); points nearer the source than GetMinimumDepth() are dropped (see ComputeDepthLimits()).
+ *
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRPointProjection
+{
+public:
+  using MatrixType = DRRAttenuationVolume::MatrixType;
+  using VectorType = DRRProjectionGeometry::VectorType;
+  using PointType = DRRProjectionGeometry::PointType;
+
+  /** Builds the mapping. roomToVolumeMatrix/Offset: the linear transform x_volume = A x_room + b (identity when
+   * no transform is set). Throws if A is singular. */
+  DRRPointProjection(const DRRProjectionGeometry & geometry,
+                     const DRRAttenuationVolume &  volume,
+                     const MatrixType &            roomToVolumeMatrix,
+                     const VectorType &            roomToVolumeOffset);
+
+  bool
+  IsPerspective() const
+  {
+    return m_Perspective;
+  }
+
+  /** Projects a continuous voxel index. Returns false if the point does not count (behind the source, beyond the
+   * detector plane, or nearer the source than the minimum depth). column/row are continuous pixel indices (pixel
+   * centres at integers); weight is the perspective weight (1 for parallel). */
+  bool
+  Project(const double p[3], double & column, double & row, double & weight) const
+  {
+    const double pu = m_PU0 + m_GU[0] * p[0] + m_GU[1] * p[1] + m_GU[2] * p[2];
+    const double pv = m_PV0 + m_GV[0] * p[0] + m_GV[1] * p[1] + m_GV[2] * p[2];
+    if (!m_Perspective)
+    {
+      column = pu * m_InverseDU + m_ColumnShift;
+      row = pv * m_InverseDV + m_RowShift;
+      weight = 1.0;
+      return true;
+    }
+    const double z = m_Z0 + m_GZ[0] * p[0] + m_GZ[1] * p[1] + m_GZ[2] * p[2];
+    if (!(z >= m_MinimumDepth) || z > m_SID)
+    {
+      return false;
+    }
+    const double inverseZ = 1.0 / z;
+    const double tu = pu * inverseZ;
+    const double tv = pv * inverseZ;
+    column = tu * m_SIDOverDU + m_ColumnShift;
+    row = tv * m_SIDOverDV + m_RowShift;
+    const double magnification = m_SID * inverseZ;
+    weight = magnification * magnification * std::sqrt(1.0 + tu * tu + tv * tv);
+    return true;
+  }
+
+  /** Continuous index -> room (mm), and back. */
+  PointType
+  IndexToRoom(const double p[3]) const;
+  void
+  RoomToIndex(const PointType & x, double p[3]) const;
+
+  /** Room volume per volume-frame volume (1 / |det A|): the attenuation mass seen in the room is M times this. */
+  double
+  GetRoomMassScale() const
+  {
+    return m_RoomMassScale;
+  }
+
+  /** Depth range of the continuous-index box [lower, upper]^3 (per axis) in the room, mm from the source. */
+  void
+  ComputeDepthRange(const std::array<double, 3> & lower,
+                    const std::array<double, 3> & upper,
+                    double &                      minimumDepth,
+                    double &                      maximumDepth) const;
+
+  /** The smallest perspective weight cap: sqrt(1 + tan^2) over the detector extent widened by one pixel. */
+  double
+  GetMaximumObliquity() const;
+
+  /** Points at depth below this (mm) are dropped. Default: 0 (only points behind the source). */
+  void
+  SetMinimumDepth(double depth)
+  {
+    m_MinimumDepth = depth > 0.0 ? depth : m_SmallestPositiveDepth;
+  }
+  double
+  GetMinimumDepth() const
+  {
+    return m_MinimumDepth;
+  }
+
+  double
+  GetSourceToDetectorDistance() const
+  {
+    return m_SID;
+  }
+  const PointType &
+  GetSource() const
+  {
+    return m_Source;
+  }
+  const VectorType &
+  GetNormal() const
+  {
+    return m_Normal;
+  }
+  const VectorType &
+  GetColumnDirection() const
+  {
+    return m_U;
+  }
+  const VectorType &
+  GetRowDirection() const
+  {
+    return m_V;
+  }
+  /** Room position of pixel (column, row) (fractional allowed) on the detector plane. */
+  PointType
+  GetPixelPosition(double column, double row) const;
+
+  unsigned int
+  GetNumberOfColumns() const
+  {
+    return m_Columns;
+  }
+  unsigned int
+  GetNumberOfRows() const
+  {
+    return m_Rows;
+  }
+  /** Pixel area, mm^2. */
+  double
+  GetPixelArea() const
+  {
+    return m_PixelArea;
+  }
+
+private:
+  bool         m_Perspective;
+  unsigned int m_Columns;
+  unsigned int m_Rows;
+  double       m_SID;
+  double       m_PixelArea;
+  double       m_InverseDU;
+  double       m_InverseDV;
+  double       m_SIDOverDU;
+  double       m_SIDOverDV;
+  double       m_ColumnShift;
+  double       m_RowShift;
+  double       m_Z0;
+  double       m_GZ[3];
+  double       m_PU0;
+  double       m_GU[3];
+  double       m_PV0;
+  double       m_GV[3];
+  double       m_RoomMassScale;
+  double       m_MinimumDepth;
+  double       m_SmallestPositiveDepth;
+  double       m_MaximumObliquity;
+  PointType    m_Source;
+  PointType    m_PixelOrigin;
+  VectorType   m_Normal;
+  VectorType   m_U;
+  VectorType   m_V;
+  VectorType   m_ColumnStep;
+  VectorType   m_RowStep;
+  MatrixType   m_IndexToRoom;
+  VectorType   m_IndexToRoomOffset;
+  MatrixType   m_RoomToIndex;
+  VectorType   m_RoomToIndexOffset;
+};
+} // namespace itk
+
+#endif

@@ -1,0 +1,94 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRPointRenderer_h
+#define itkDRRPointRenderer_h
+
+#include "itkDRRPointProjection.h"
+#include "itkDRRPointSampler.h"
+#include "itkMultiThreaderBase.h"
+#include "itkProcessObject.h"
+#include "PointBasedDRRExport.h"
+
+#include <vector>
+
+namespace itk
+{
+/** \class DRRPointRenderer
+ * \brief The Monte Carlo core of the point-based DRR: draws N points, projects and splats them, and returns the
+ * line-integral image and its standard error.
+ *
+ * The estimate of pixel j is L_j = M / (N a) sum_i c_ij, where c_ij is the share of point i in pixel j (its sampler
+ * weight times its perspective weight times its splat fraction), M the room attenuation mass and a the pixel area.
+ * Its standard error is M / (N a) sqrt(N / (N - 1) (sum c^2 - (sum c)^2 / N)), from the same sums.
+ *
+ * Reproducibility: the N samples are cut into fixed chunks; chunk k draws from the Philox streams keyed by (seed, k).
+ * Every contribution is rounded once to a 64-bit fixed-point integer whose scale is chosen from N and a bound on
+ * the contributions, so sums cannot overflow and integer addition makes the result independent of which thread
+ * ran which chunk: the same seed gives the same bits on any number of threads.
+ *
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRPointRenderer
+{
+public:
+  using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
+  using SplatEnum = PointBasedDRREnums::Splat;
+  using WeightingEnum = PointBasedDRREnums::PointWeighting;
+
+  /** Samples per chunk: the unit of random-stream addressing, work distribution and progress. */
+  static constexpr uint64_t SamplesPerChunk = 65536;
+
+  struct Settings
+  {
+    uint64_t      NumberOfSamples{ 0 };
+    uint64_t      Seed{ 0 };
+    KernelEnum    Kernel{ KernelEnum::Box };
+    SplatEnum     Splat{ SplatEnum::Nearest };
+    WeightingEnum Weighting{ WeightingEnum::Unbiased };
+  };
+
+  struct Result
+  {
+    std::vector<double> LineIntegral;        // cols x rows, columns fastest
+    std::vector<double> StandardError;       // same layout
+    double              RoomMass{ 0.0 };     // mm^2
+    double              MinimumDepth{ 0.0 }; // mm; points nearer the source were dropped
+    bool                SourceNearVolume{ false };
+    uint64_t            PointsOnDetector{ 0 }; // points that landed on the detector (nearest pixel inside)
+  };
+
+  /** Renders. The volume must be the one the sampler was initialized with. Progress goes to progressFilter (may be
+   * null), which is also checked for abort between chunks. */
+  static Result
+  Render(const DRRAttenuationVolume & volume,
+         const DRRPointSampler &      sampler,
+         DRRPointProjection           projection,
+         const Settings &             settings,
+         MultiThreaderBase *          threader,
+         ProcessObject *              progressFilter);
+
+  /** Continuous-index box [lower, upper] that the kernel's points can reach. */
+  static void
+  ComputeKernelSupport(const DRRAttenuationVolume & volume,
+                       KernelEnum                   kernel,
+                       std::array<double, 3> &      lower,
+                       std::array<double, 3> &      upper);
+};
+} // namespace itk
+
+#endif

@@ -1,0 +1,189 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRProjectionGeometry_h
+#define itkDRRProjectionGeometry_h
+
+#include "itkObject.h"
+#include "itkObjectFactory.h"
+#include "itkPoint.h"
+#include "itkVector.h"
+#include "itkSize.h"
+#include "itkPointBasedDRREnums.h"
+#include "PointBasedDRRExport.h"
+
+namespace itk
+{
+/** \class DRRProjectionGeometry
+ * \brief The geometry of one radiograph: source, detector plane, pixel grid.
+ *
+ * The convention is plastimatch's `drr`, so that its users get the same image. All lengths are in mm,
+ * angles in degrees, and the world frame is the physical (LPS) frame of the CT volume:
+ *
+ * - n = (cos g, -sin g, 0) is the unit vector from the isocenter towards the source for gantry angle g
+ *   (or is given directly with SetNormal()). Gantry 0 puts the source on +x, gantry 90 on -y (anterior).
+ * - u = unit(vup x n) runs along detector columns (increasing column index i);
+ *   v = u x n runs along rows (increasing row index j), so row 0 is at the +vup edge.
+ * - Source S = isocenter + SAD n. Detector centre C = S - SID n + offset_u u + offset_v v.
+ * - Pixel (i, j) centre = C + (i - (cols - 1) / 2) du u + (j - (rows - 1) / 2) dv v.
+ * - Perspective integrates from S to the pixel; parallel integrates the whole line through the pixel
+ *   along n.
+ *
+ * The 2D output image of a DRR filter has size (cols, rows), spacing (du, dv) and origin
+ * (offset_u - (cols - 1) / 2 du, offset_v - (rows - 1) / 2 dv): its physical coordinates are detector-plane
+ * coordinates relative to the foot of the normal from the source. A 3D one-slice output is placed in the
+ * room: origin at the centre of pixel (0, 0), direction columns (u, v, -n).
+ *
+ * The explicit form (source, detector centre, column and row unit vectors) is accepted too and converted to
+ * the same internal parameters; ReadGeometryFile() reads the `key value...` file format of the design
+ * (`projection`, `sad`, `sid`, `gantry`, `nrm`, `vup`, `isocenter`, `cols`, `rows`, `spacing`, `offset`).
+ *
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRProjectionGeometry : public Object
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(DRRProjectionGeometry);
+
+  using Self = DRRProjectionGeometry;
+  using Superclass = Object;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkNewMacro(Self);
+  itkTypeMacro(DRRProjectionGeometry, Object);
+
+  using PointType = Point<double, 3>;
+  using VectorType = Vector<double, 3>;
+  using DetectorSizeType = Size<2>;
+  using DetectorVectorType = Vector<double, 2>;
+  using ProjectionEnum = PointBasedDRREnums::Projection;
+
+  /** Perspective (default) or parallel beam. */
+  itkSetEnumMacro(Projection, ProjectionEnum);
+  itkGetConstMacro(Projection, ProjectionEnum);
+
+  /** Source to isocenter distance (SAD), mm. Default 1000. */
+  itkSetMacro(SourceToIsocenterDistance, double);
+  itkGetConstMacro(SourceToIsocenterDistance, double);
+
+  /** Source to detector-plane distance (SID), mm. Default 1500. */
+  itkSetMacro(SourceToDetectorDistance, double);
+  itkGetConstMacro(SourceToDetectorDistance, double);
+
+  /** Isocenter in the volume's physical frame, mm. Default (0, 0, 0). */
+  itkSetMacro(Isocenter, PointType);
+  itkGetConstMacro(Isocenter, PointType);
+
+  /** Gantry angle in degrees: sets the normal to (cos g, -sin g, 0). */
+  void
+  SetGantryAngleInDegrees(double angleInDegrees);
+  itkGetConstMacro(GantryAngleInDegrees, double);
+
+  /** Unit vector from the isocenter towards the source (normalized on Set). Overrides the gantry angle. */
+  void
+  SetNormal(const VectorType & normal);
+  itkGetConstReferenceMacro(Normal, VectorType);
+
+  /** View-up vector: row 0 of the detector is at its +vup edge. Default (0, 0, 1). */
+  itkSetMacro(ViewUp, VectorType);
+  itkGetConstReferenceMacro(ViewUp, VectorType);
+
+  /** Number of detector columns and rows (cols, rows). Default 256 x 256. */
+  itkSetMacro(DetectorSize, DetectorSizeType);
+  itkGetConstReferenceMacro(DetectorSize, DetectorSizeType);
+
+  /** Detector pixel spacing (du along columns, dv along rows), mm. Default 1 x 1. */
+  itkSetMacro(DetectorSpacing, DetectorVectorType);
+  itkGetConstReferenceMacro(DetectorSpacing, DetectorVectorType);
+
+  /** Offset of the detector centre in the detector plane (along u, along v), mm. Default 0, 0. */
+  itkSetMacro(DetectorOffset, DetectorVectorType);
+  itkGetConstReferenceMacro(DetectorOffset, DetectorVectorType);
+
+  /** Explicit perspective form: source, detector centre (centre of the pixel grid), and the column (u) and row
+   * (v) unit vectors of the detector. Sets the normal, SID, isocenter (the foot of the normal, SAD = SID),
+   * view-up (-v) and offsets accordingly. Throws if u and v are not orthogonal or the source lies in the
+   * detector plane. */
+  void
+  SetExplicitPerspectiveGeometry(const PointType &  source,
+                                 const PointType &  detectorCenter,
+                                 const VectorType & columnDirection,
+                                 const VectorType & rowDirection);
+
+  /** Explicit parallel form: detector centre and the column (u) and row (v) unit vectors; rays run along
+   * -n = u x v. */
+  void
+  SetExplicitParallelGeometry(const PointType &  detectorCenter,
+                              const VectorType & columnDirection,
+                              const VectorType & rowDirection);
+
+  /** Reads a geometry file: one `key value...` per line, `#` starts a comment. Keys given override the current
+   * values; unknown keys, missing or non-numeric values throw an ExceptionObject naming the line. */
+  void
+  ReadGeometryFile(const std::string & fileName);
+
+  /** Parses one geometry-file line (without the trailing newline). Throws on error. */
+  void
+  ParseGeometryLine(const std::string & line, const std::string & where = "");
+
+  /** Throws an ExceptionObject naming the first problem: non-positive SAD, SID or pixel size, zero detector
+   * size, non-finite values, a view-up parallel to the normal. */
+  void
+  VerifyGeometry() const;
+
+  /** Derived quantities (valid after VerifyGeometry()). */
+  VectorType
+  GetColumnDirection() const;
+  VectorType
+  GetRowDirection() const;
+  PointType
+  GetSourcePosition() const;
+  /** Foot of the normal from the source on the detector plane: the origin of detector (u, v) coordinates. */
+  PointType
+  GetDetectorPlaneOrigin() const;
+  /** Centre of the pixel grid. */
+  PointType
+  GetDetectorCenter() const;
+  /** Centre of pixel (column i, row j) in world coordinates. Fractional indices are allowed. */
+  PointType
+  GetPixelCenter(double column, double row) const;
+  /** Detector-plane coordinates (along u, along v, mm) of the centre of pixel (0, 0): the 2D output origin. */
+  DetectorVectorType
+  GetDetectorOrigin2D() const;
+
+protected:
+  DRRProjectionGeometry();
+  ~DRRProjectionGeometry() override = default;
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  ProjectionEnum     m_Projection{ ProjectionEnum::Perspective };
+  double             m_SourceToIsocenterDistance{ 1000.0 };
+  double             m_SourceToDetectorDistance{ 1500.0 };
+  PointType          m_Isocenter;
+  double             m_GantryAngleInDegrees{ 0.0 };
+  VectorType         m_Normal;
+  VectorType         m_ViewUp;
+  DetectorSizeType   m_DetectorSize;
+  DetectorVectorType m_DetectorSpacing;
+  DetectorVectorType m_DetectorOffset;
+};
+} // namespace itk
+
+#endif

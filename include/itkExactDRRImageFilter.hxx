@@ -1,0 +1,49 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkExactDRRImageFilter_hxx
+#define itkExactDRRImageFilter_hxx
+
+#include "itkExactDRRImageFilter.h"
+#include "itkDRRExactRayIntegrator.h"
+
+namespace itk
+{
+template <typename TInputImage, typename TOutputImage>
+void
+ExactDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
+{
+  this->UpdateProgress(0.0f);
+  const DRRPointProjection    projection = this->MakeProjection();
+  const DRRExactRayIntegrator integrator(*this->GetAttenuationVolume(), m_ReconstructionKernel);
+  const std::vector<double>   image =
+    integrator.RenderProjection(projection, m_RaysPerPixelSide, this->GetMultiThreader(), this);
+  this->WriteOutput(image, 0, true);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+ExactDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "ReconstructionKernel: " << m_ReconstructionKernel << std::endl;
+  os << indent << "RaysPerPixelSide: " << m_RaysPerPixelSide << std::endl;
+}
+} // namespace itk
+
+#endif

@@ -1,0 +1,108 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkPointBasedDRREnums_h
+#define itkPointBasedDRREnums_h
+
+#include "PointBasedDRRExport.h"
+#include <cstdint>
+#include <iostream>
+
+namespace itk
+{
+/** \class PointBasedDRREnums
+ * \brief Enumerations shared by the PointBasedDRR filters, geometry and transfer functions.
+ *
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT PointBasedDRREnums
+{
+public:
+  /** \brief Beam model. Perspective integrates from the source to the pixel; parallel integrates the whole
+   * line through the pixel along the detector normal. */
+  enum class Projection : uint8_t
+  {
+    Perspective,
+    Parallel
+  };
+
+  /** \brief Where inside its voxel a point is drawn, i.e. which continuous attenuation model is rendered.
+   * Box: uniform in the voxel (piecewise-constant model, exact reference: Siddon).
+   * Tent: voxel centre plus a triangular offset of +-1 voxel per axis (trilinear model of the volume padded
+   * with one layer of zero voxels; exact reference: dual-grid trilinear integral). */
+  enum class ReconstructionKernel : uint8_t
+  {
+    Box,
+    Tent
+  };
+
+  /** \brief How a projected point is deposited on the detector.
+   * Nearest: the pixel containing it (unbiased for the pixel-area average).
+   * Bilinear: the four nearest pixel centres with bilinear weights (lower variance; its expectation is the
+   * pixel-area average blurred by a one-pixel tent, a blur that is part of its measured error). */
+  enum class Splat : uint8_t
+  {
+    Nearest,
+    Bilinear
+  };
+
+  /** \brief What the output pixels hold. LineIntegral (default): the dimensionless line integral of mu;
+   * Transmission: exp(-line integral); Gray8 / Gray16: the line integral windowed onto [0, 255] or
+   * [0, 65535] (the paper's quantization step; bright = attenuating, as on a radiograph). */
+  enum class OutputMode : uint8_t
+  {
+    LineIntegral,
+    Transmission,
+    Gray8,
+    Gray16
+  };
+
+  /** \brief How input voxel values become linear attenuation mu (1/mm).
+   * Natural: mu = mu_water(E) * max(0, 1 + HU / 1000);
+   * PiecewiseLinear: user-given (value, mu) pairs; Identity: the input already is mu in 1/mm. */
+  enum class TransferFunction : uint8_t
+  {
+    Natural,
+    PiecewiseLinear,
+    Identity
+  };
+
+  /** \brief Perspective weighting of each point. Unbiased (default) gives the pixel-area average line
+   * integral; PaperCount counts every point with weight 1, as in the paper, which is biased by the
+   * magnification in perspective. */
+  enum class PointWeighting : uint8_t
+  {
+    Unbiased,
+    PaperCount
+  };
+};
+
+PointBasedDRR_EXPORT std::ostream &
+                     operator<<(std::ostream & out, const PointBasedDRREnums::Projection value);
+PointBasedDRR_EXPORT std::ostream &
+                     operator<<(std::ostream & out, const PointBasedDRREnums::ReconstructionKernel value);
+PointBasedDRR_EXPORT std::ostream &
+                     operator<<(std::ostream & out, const PointBasedDRREnums::Splat value);
+PointBasedDRR_EXPORT std::ostream &
+                     operator<<(std::ostream & out, const PointBasedDRREnums::OutputMode value);
+PointBasedDRR_EXPORT std::ostream &
+                     operator<<(std::ostream & out, const PointBasedDRREnums::TransferFunction value);
+PointBasedDRR_EXPORT std::ostream &
+                     operator<<(std::ostream & out, const PointBasedDRREnums::PointWeighting value);
+} // namespace itk
+
+#endif

@@ -1,0 +1,256 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRExactRayIntegrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace itk
+{
+DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume, KernelEnum kernel)
+  : m_Volume(volume), m_Kernel(kernel)
+{
+  // Box: cells are the voxels, planes at -0.5 .. n - 0.5. Tent: cells lie between the centres of the zero-padded
+  // grid, planes at -1 .. n; cell c spans [c - 1, c] and its lower corner is voxel c - 1.
+  m_GridStart = kernel == KernelEnum::Box ? -0.5 : -1.0;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    m_NumberOfCells[a] = static_cast<int64_t>(volume.GetSize()[a]) + (kernel == KernelEnum::Box ? 0 : 1);
+  }
+}
+
+double
+DRRExactRayIntegrator::Trilinear(const int64_t corner[3], const double fraction[3]) const
+{
+  double value = 0.0;
+  for (unsigned int c = 0; c < 8; ++c)
+  {
+    const unsigned int dx = c & 1u;
+    const unsigned int dy = (c >> 1) & 1u;
+    const unsigned int dz = (c >> 2) & 1u;
+    const double       w = (dx ? fraction[0] : 1.0 - fraction[0]) * (dy ? fraction[1] : 1.0 - fraction[1]) *
+                     (dz ? fraction[2] : 1.0 - fraction[2]);
+    value += w * m_Volume.GetMuOrZero(corner[0] + dx, corner[1] + dy, corner[2] + dz);
+  }
+  return value;
+}
+
+double
+DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) const
+{
+  double d[3];
+  double tEnter = 0.0;
+  double tExit = 1.0;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    d[a] = p1[a] - p0[a];
+    const double low = m_GridStart;
+    const double high = m_GridStart + static_cast<double>(m_NumberOfCells[a]);
+    if (d[a] == 0.0)
+    {
+      if (p0[a] <= low || p0[a] >= high)
+      {
+        return 0.0;
+      }
+      continue;
+    }
+    const double t1 = (low - p0[a]) / d[a];
+    const double t2 = (high - p0[a]) / d[a];
+    tEnter = std::max(tEnter, std::min(t1, t2));
+    tExit = std::min(tExit, std::max(t1, t2));
+  }
+  if (!(tEnter < tExit))
+  {
+    return 0.0;
+  }
+
+  int64_t cell[3];
+  int64_t step[3];
+  double  tNext[3];
+  double  tDelta[3];
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    const double position = p0[a] + tEnter * d[a] - m_GridStart;
+    double       base = std::floor(position);
+    if (position == base && d[a] < 0.0)
+    {
+      base -= 1.0; // on a plane and moving down: the cell below
+    }
+    cell[a] = std::min<int64_t>(std::max<int64_t>(static_cast<int64_t>(base), 0), m_NumberOfCells[a] - 1);
+    if (d[a] > 0.0)
+    {
+      step[a] = 1;
+      tNext[a] = (m_GridStart + static_cast<double>(cell[a] + 1) - p0[a]) / d[a];
+      tDelta[a] = 1.0 / d[a];
+    }
+    else if (d[a] < 0.0)
+    {
+      step[a] = -1;
+      tNext[a] = (m_GridStart + static_cast<double>(cell[a]) - p0[a]) / d[a];
+      tDelta[a] = -1.0 / d[a];
+    }
+    else
+    {
+      step[a] = 0;
+      tNext[a] = std::numeric_limits<double>::infinity();
+      tDelta[a] = std::numeric_limits<double>::infinity();
+    }
+  }
+
+  const uint64_t nx = m_Volume.GetSize()[0];
+  const uint64_t nxy = nx * m_Volume.GetSize()[1];
+  const float *  mu = m_Volume.GetMuBuffer();
+  const double   gaussOffset = 0.5 / std::sqrt(3.0);
+  double         integral = 0.0;
+  double         t = tEnter;
+  while (t < tExit)
+  {
+    const unsigned int axis = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+    const double       tEnd = std::min(tNext[axis], tExit);
+    if (tEnd > t)
+    {
+      if (m_Kernel == KernelEnum::Box)
+      {
+        integral += (tEnd - t) * mu[static_cast<uint64_t>(cell[0]) + nx * static_cast<uint64_t>(cell[1]) +
+                                    nxy * static_cast<uint64_t>(cell[2])];
+      }
+      else
+      {
+        const int64_t corner[3] = { cell[0] - 1, cell[1] - 1, cell[2] - 1 };
+        const double  length = tEnd - t;
+        const double  middle = 0.5 * (t + tEnd);
+        for (double node : { middle - gaussOffset * length, middle + gaussOffset * length })
+        {
+          double fraction[3];
+          for (unsigned int a = 0; a < 3; ++a)
+          {
+            fraction[a] = p0[a] + node * d[a] - static_cast<double>(corner[a]);
+          }
+          integral += 0.5 * length * this->Trilinear(corner, fraction);
+        }
+      }
+    }
+    t = tEnd;
+    cell[axis] += step[axis];
+    tNext[axis] += tDelta[axis];
+    if (cell[axis] < 0 || cell[axis] >= m_NumberOfCells[axis])
+    {
+      break;
+    }
+  }
+  return integral;
+}
+
+double
+DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection, double column, double row) const
+{
+  using PointType = DRRPointProjection::PointType;
+  const PointType pixel = projection.GetPixelPosition(column, row);
+  PointType       start;
+  PointType       end;
+  if (projection.IsPerspective())
+  {
+    start = projection.GetSource();
+    end = pixel;
+  }
+  else
+  {
+    // The whole line through the pixel along n: clip it to the depth range of the model's support box.
+    std::array<double, 3> lower, upper;
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      lower[a] = m_GridStart - 1.0;
+      upper[a] = m_GridStart + static_cast<double>(m_NumberOfCells[a]) + 1.0;
+    }
+    double sMin = std::numeric_limits<double>::infinity();
+    double sMax = -sMin;
+    for (unsigned int corner = 0; corner < 8; ++corner)
+    {
+      double p[3];
+      for (unsigned int a = 0; a < 3; ++a)
+      {
+        p[a] = (corner >> a) & 1u ? upper[a] : lower[a];
+      }
+      const double s = (projection.IndexToRoom(p) - pixel) * projection.GetNormal();
+      sMin = std::min(sMin, s);
+      sMax = std::max(sMax, s);
+    }
+    start = pixel + projection.GetNormal() * sMax;
+    end = pixel + projection.GetNormal() * sMin;
+  }
+  double p0[3];
+  double p1[3];
+  projection.RoomToIndex(start, p0);
+  projection.RoomToIndex(end, p1);
+  return (end - start).GetNorm() * this->IntegrateSegment(p0, p1);
+}
+
+std::vector<double>
+DRRExactRayIntegrator::RenderProjection(const DRRPointProjection & projection,
+                                        unsigned int               raysPerSide,
+                                        MultiThreaderBase *        threader,
+                                        ProcessObject *            progressFilter) const
+{
+  if (raysPerSide == 0)
+  {
+    itkGenericExceptionMacro("DRRExactRayIntegrator: the number of rays per pixel side must be at least 1");
+  }
+  const unsigned int  columns = projection.GetNumberOfColumns();
+  const unsigned int  rows = projection.GetNumberOfRows();
+  std::vector<double> image(static_cast<size_t>(columns) * rows, 0.0);
+  const double        inverseRays = 1.0 / static_cast<double>(raysPerSide);
+  const double        inverseRayCount = inverseRays * inverseRays;
+  const float         progressPerRow = 1.0f / static_cast<float>(rows);
+  threader->ParallelizeArray(
+    0,
+    rows,
+    [&](SizeValueType row) {
+      if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
+      {
+        return;
+      }
+      for (unsigned int column = 0; column < columns; ++column)
+      {
+        double sum = 0.0;
+        for (unsigned int sv = 0; sv < raysPerSide; ++sv)
+        {
+          const double r = static_cast<double>(row) + (sv + 0.5) * inverseRays - 0.5;
+          for (unsigned int su = 0; su < raysPerSide; ++su)
+          {
+            const double c = static_cast<double>(column) + (su + 0.5) * inverseRays - 0.5;
+            sum += this->IntegrateRay(projection, c, r);
+          }
+        }
+        image[static_cast<size_t>(row) * columns + column] = sum * inverseRayCount;
+      }
+      if (progressFilter != nullptr)
+      {
+        progressFilter->IncrementProgress(progressPerRow);
+      }
+    },
+    nullptr);
+  if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
+  {
+    ProcessAborted e(__FILE__, __LINE__);
+    e.SetDescription("Object " + std::string(progressFilter->GetNameOfClass()) + ": AbortGenerateDataOn");
+    throw e;
+  }
+  return image;
+}
+} // namespace itk

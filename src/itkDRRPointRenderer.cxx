@@ -1,0 +1,302 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRPointRenderer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+
+namespace itk
+{
+namespace
+{
+constexpr uint64_t samplesPerBatch = 512;
+
+/** Integer fixed-point accumulators of one worker. */
+struct Accumulator
+{
+  std::vector<int64_t> Sum;
+  std::vector<int64_t> SumOfSquares;
+  uint64_t             PointsOnDetector{ 0 };
+};
+
+/** Largest k with count * bound * 2^k <= 2^62, so that no sum of count contributions <= bound overflows. */
+int
+FixedPointExponent(double count, double bound)
+{
+  return static_cast<int>(std::floor(62.0 - std::log2(std::max(count * bound, 1e-300))));
+}
+
+/** Offset in [-1, 1) of the tent (triangular) density 1 - |t|, by inverting its distribution function. */
+inline double
+TentOffset(uint32_t bits)
+{
+  const double u = DRRPhiloxRandom::ToUnitInterval(bits);
+  return u < 0.5 ? std::sqrt(2.0 * u) - 1.0 : 1.0 - std::sqrt(2.0 * (1.0 - u));
+}
+
+class ChunkRenderer
+{
+public:
+  ChunkRenderer(const DRRAttenuationVolume &       volume,
+                const DRRPointSampler &            sampler,
+                const DRRPointProjection &         projection,
+                const DRRPointRenderer::Settings & settings,
+                double                             sumScale,
+                double                             squareScale)
+    : m_Sampler(sampler)
+    , m_Projection(projection)
+    , m_Settings(settings)
+    , m_NX(volume.GetSize()[0])
+    , m_NXY(volume.GetSize()[0] * volume.GetSize()[1])
+    , m_Columns(static_cast<int64_t>(projection.GetNumberOfColumns()))
+    , m_Rows(static_cast<int64_t>(projection.GetNumberOfRows()))
+    , m_SumScale(sumScale)
+    , m_SquareScale(squareScale)
+  {}
+
+  void
+  Render(uint64_t chunk, Accumulator & accumulator) const
+  {
+    const uint64_t  first = chunk * DRRPointRenderer::SamplesPerChunk;
+    const uint64_t  end = std::min(first + DRRPointRenderer::SamplesPerChunk, m_Settings.NumberOfSamples);
+    DRRPhiloxRandom samplerStream(m_Settings.Seed, chunk, 0);
+    DRRPhiloxRandom kernelStream(m_Settings.Seed, chunk, 1);
+    uint64_t        voxels[samplesPerBatch];
+    double          weights[samplesPerBatch];
+    for (uint64_t batchStart = first; batchStart < end; batchStart += samplesPerBatch)
+    {
+      const uint64_t count = std::min(samplesPerBatch, end - batchStart);
+      m_Sampler.GenerateBatch(samplerStream, batchStart, count, m_Settings.NumberOfSamples, voxels, weights);
+      for (uint64_t i = 0; i < count; ++i)
+      {
+        double point[3];
+        this->PlaceInVoxel(voxels[i], kernelStream.Next(), point);
+        double column, row, perspectiveWeight;
+        if (!m_Projection.Project(point, column, row, perspectiveWeight))
+        {
+          continue;
+        }
+        const double weight =
+          weights[i] * (m_Settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased ? perspectiveWeight : 1.0);
+        this->Splat(column, row, weight, accumulator);
+      }
+    }
+  }
+
+private:
+  void
+  PlaceInVoxel(uint64_t voxel, const DRRPhiloxRandom::BlockType & bits, double point[3]) const
+  {
+    const uint64_t k = voxel / m_NXY;
+    const uint64_t rest = voxel - k * m_NXY;
+    const uint64_t j = rest / m_NX;
+    const uint64_t i = rest - j * m_NX;
+    const double   centre[3] = { static_cast<double>(i), static_cast<double>(j), static_cast<double>(k) };
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      point[a] = centre[a] + (m_Settings.Kernel == PointBasedDRREnums::ReconstructionKernel::Box
+                                ? DRRPhiloxRandom::ToUnitInterval(bits[a]) - 0.5
+                                : TentOffset(bits[a]));
+    }
+  }
+
+  void
+  Deposit(int64_t pixel, double contribution, Accumulator & accumulator) const
+  {
+    accumulator.Sum[pixel] += std::llrint(contribution * m_SumScale);
+    accumulator.SumOfSquares[pixel] += std::llrint(contribution * contribution * m_SquareScale);
+  }
+
+  void
+  Splat(double column, double row, double weight, Accumulator & accumulator) const
+  {
+    if (m_Settings.Splat == PointBasedDRREnums::Splat::Nearest)
+    {
+      const double c = std::floor(column + 0.5);
+      const double r = std::floor(row + 0.5);
+      if (c >= 0.0 && r >= 0.0 && c < static_cast<double>(m_Columns) && r < static_cast<double>(m_Rows))
+      {
+        this->Deposit(static_cast<int64_t>(c) + m_Columns * static_cast<int64_t>(r), weight, accumulator);
+        ++accumulator.PointsOnDetector;
+      }
+      return;
+    }
+    const double c0 = std::floor(column);
+    const double r0 = std::floor(row);
+    if (c0 < -1.0 || r0 < -1.0 || c0 >= static_cast<double>(m_Columns) || r0 >= static_cast<double>(m_Rows))
+    {
+      return;
+    }
+    const double  fc = column - c0;
+    const double  fr = row - r0;
+    const int64_t ic = static_cast<int64_t>(c0);
+    const int64_t ir = static_cast<int64_t>(r0);
+    const double  shares[4] = { (1.0 - fc) * (1.0 - fr), fc * (1.0 - fr), (1.0 - fc) * fr, fc * fr };
+    bool          landed = false;
+    for (unsigned int corner = 0; corner < 4; ++corner)
+    {
+      const int64_t pc = ic + (corner & 1u);
+      const int64_t pr = ir + (corner >> 1);
+      if (pc >= 0 && pr >= 0 && pc < m_Columns && pr < m_Rows && shares[corner] > 0.0)
+      {
+        this->Deposit(pc + m_Columns * pr, weight * shares[corner], accumulator);
+        landed = true;
+      }
+    }
+    accumulator.PointsOnDetector += landed ? 1 : 0;
+  }
+
+  const DRRPointSampler &            m_Sampler;
+  const DRRPointProjection &         m_Projection;
+  const DRRPointRenderer::Settings & m_Settings;
+  const uint64_t                     m_NX;
+  const uint64_t                     m_NXY;
+  const int64_t                      m_Columns;
+  const int64_t                      m_Rows;
+  const double                       m_SumScale;
+  const double                       m_SquareScale;
+};
+} // namespace
+
+void
+DRRPointRenderer::ComputeKernelSupport(const DRRAttenuationVolume & volume,
+                                       KernelEnum                   kernel,
+                                       std::array<double, 3> &      lower,
+                                       std::array<double, 3> &      upper)
+{
+  const double reach = kernel == KernelEnum::Box ? 0.5 : 1.0;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    lower[a] = -reach;
+    upper[a] = static_cast<double>(volume.GetSize()[a]) - 1.0 + reach;
+  }
+}
+
+DRRPointRenderer::Result
+DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
+                         const DRRPointSampler &      sampler,
+                         DRRPointProjection           projection,
+                         const Settings &             settings,
+                         MultiThreaderBase *          threader,
+                         ProcessObject *              progressFilter)
+{
+  if (settings.NumberOfSamples == 0)
+  {
+    itkGenericExceptionMacro("DRRPointRenderer: the number of samples must be at least 1");
+  }
+  const size_t numberOfPixels =
+    static_cast<size_t>(projection.GetNumberOfColumns()) * static_cast<size_t>(projection.GetNumberOfRows());
+  Result result;
+  result.LineIntegral.assign(numberOfPixels, 0.0);
+  result.StandardError.assign(numberOfPixels, 0.0);
+  result.RoomMass = sampler.GetTotalMass() * projection.GetRoomMassScale();
+  if (!(result.RoomMass > 0.0))
+  {
+    return result; // all air: the exact answer is a zero image
+  }
+
+  // Bound the contributions so the fixed-point sums cannot overflow. In perspective, the weight grows as
+  // (SID / z)^2 near the source; if the volume comes that close, drop the points nearer than the depth that keeps
+  // at least 20 fractional bits (the dropped part of each ray is shorter than that depth).
+  const double N = static_cast<double>(settings.NumberOfSamples);
+  double       contributionBound = sampler.GetMaximumWeight();
+  if (projection.IsPerspective() && settings.Weighting == WeightingEnum::Unbiased)
+  {
+    std::array<double, 3> lower, upper;
+    ComputeKernelSupport(volume, settings.Kernel, lower, upper);
+    double nearest, farthest;
+    projection.ComputeDepthRange(lower, upper, nearest, farthest);
+    const double sid = projection.GetSourceToDetectorDistance();
+    const double obliquity = projection.GetMaximumObliquity();
+    const double largestAffordableWeight = std::ldexp(1.0, 42) / (N * sampler.GetMaximumWeight());
+    const double depthCut = sid * std::sqrt(obliquity / largestAffordableWeight);
+    result.SourceNearVolume = nearest < depthCut;
+    const double minimumDepth = std::max(depthCut, nearest);
+    projection.SetMinimumDepth(result.SourceNearVolume ? depthCut : 0.0);
+    result.MinimumDepth = result.SourceNearVolume ? depthCut : 0.0;
+    contributionBound *= (sid / minimumDepth) * (sid / minimumDepth) * obliquity;
+  }
+  const int           sumExponent = FixedPointExponent(N, contributionBound);
+  const int           squareExponent = FixedPointExponent(N, contributionBound * contributionBound);
+  const ChunkRenderer chunkRenderer(
+    volume, sampler, projection, settings, std::ldexp(1.0, sumExponent), std::ldexp(1.0, squareExponent));
+
+  const uint64_t numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
+  const uint64_t numberOfWorkers =
+    std::max<uint64_t>(1, std::min<uint64_t>(numberOfChunks, threader->GetNumberOfWorkUnits()));
+  std::vector<Accumulator> accumulators(numberOfWorkers);
+  std::atomic<uint64_t>    nextChunk{ 0 };
+  const float              progressPerChunk = 1.0f / static_cast<float>(numberOfChunks);
+
+  threader->ParallelizeArray(
+    0,
+    numberOfWorkers,
+    [&](SizeValueType worker) {
+      Accumulator & accumulator = accumulators[worker];
+      accumulator.Sum.assign(numberOfPixels, 0);
+      accumulator.SumOfSquares.assign(numberOfPixels, 0);
+      for (uint64_t chunk = nextChunk++; chunk < numberOfChunks; chunk = nextChunk++)
+      {
+        if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
+        {
+          nextChunk = numberOfChunks;
+          return;
+        }
+        chunkRenderer.Render(chunk, accumulator);
+        if (progressFilter != nullptr)
+        {
+          progressFilter->IncrementProgress(progressPerChunk);
+        }
+      }
+    },
+    nullptr);
+  if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
+  {
+    ProcessAborted e(__FILE__, __LINE__);
+    e.SetDescription("Object " + std::string(progressFilter->GetNameOfClass()) + ": AbortGenerateDataOn");
+    throw e;
+  }
+
+  // Integer reduction: exact, hence independent of the order and of the worker that held each chunk.
+  const double valueScale = result.RoomMass / (N * projection.GetPixelArea());
+  const double inverseSumScale = std::ldexp(1.0, -sumExponent);
+  const double inverseSquareScale = std::ldexp(1.0, -squareExponent);
+  for (size_t p = 0; p < numberOfPixels; ++p)
+  {
+    int64_t sum = 0;
+    int64_t sumOfSquares = 0;
+    for (const Accumulator & accumulator : accumulators)
+    {
+      sum += accumulator.Sum[p];
+      sumOfSquares += accumulator.SumOfSquares[p];
+    }
+    const double s = static_cast<double>(sum) * inverseSumScale;
+    const double s2 = static_cast<double>(sumOfSquares) * inverseSquareScale;
+    result.LineIntegral[p] = valueScale * s;
+    const double variance = settings.NumberOfSamples > 1 ? N / (N - 1.0) * std::max(0.0, s2 - s * s / N) : s2;
+    result.StandardError[p] = valueScale * std::sqrt(variance);
+  }
+  for (const Accumulator & accumulator : accumulators)
+  {
+    result.PointsOnDetector += accumulator.PointsOnDetector;
+  }
+  return result;
+}
+} // namespace itk

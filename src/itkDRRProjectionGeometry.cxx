@@ -1,0 +1,421 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRProjectionGeometry.h"
+#include "itkMath.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace itk
+{
+namespace
+{
+constexpr double orthogonalityTolerance = 1e-6;
+
+DRRProjectionGeometry::VectorType
+Cross(const DRRProjectionGeometry::VectorType & a, const DRRProjectionGeometry::VectorType & b)
+{
+  DRRProjectionGeometry::VectorType c;
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+  return c;
+}
+
+bool
+AllFinite(const DRRProjectionGeometry::VectorType & v)
+{
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+[[noreturn]] void
+ThrowGeometryError(const std::string & message)
+{
+  ExceptionObject e(__FILE__, __LINE__, "DRRProjectionGeometry: " + message, ITK_LOCATION);
+  throw e;
+}
+
+/** Strict number parsing: the whole token must be a finite number. */
+double
+ParseNumber(const std::string & token, const std::string & key, const std::string & where)
+{
+  const char * begin = token.c_str();
+  char *       end = nullptr;
+  errno = 0;
+  const double value = std::strtod(begin, &end);
+  if (end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(value))
+  {
+    ThrowGeometryError(where + "value '" + token + "' of key '" + key + "' is not a finite number");
+  }
+  return value;
+}
+
+SizeValueType
+ParseCount(const std::string & token, const std::string & key, const std::string & where)
+{
+  const double value = ParseNumber(token, key, where);
+  if (value < 1.0 || value != std::floor(value) || value > 1e6)
+  {
+    ThrowGeometryError(where + "value '" + token + "' of key '" + key + "' must be a whole number in [1, 1e6]");
+  }
+  return static_cast<SizeValueType>(value);
+}
+} // namespace
+
+DRRProjectionGeometry::DRRProjectionGeometry()
+{
+  m_Isocenter.Fill(0.0);
+  m_Normal[0] = 1.0;
+  m_Normal[1] = 0.0;
+  m_Normal[2] = 0.0;
+  m_ViewUp[0] = 0.0;
+  m_ViewUp[1] = 0.0;
+  m_ViewUp[2] = 1.0;
+  m_DetectorSize.Fill(256);
+  m_DetectorSpacing.Fill(1.0);
+  m_DetectorOffset.Fill(0.0);
+}
+
+void
+DRRProjectionGeometry::SetGantryAngleInDegrees(double angleInDegrees)
+{
+  const double radians = angleInDegrees * Math::pi / 180.0;
+  VectorType   normal;
+  normal[0] = std::cos(radians);
+  normal[1] = -std::sin(radians);
+  normal[2] = 0.0;
+  m_GantryAngleInDegrees = angleInDegrees;
+  m_Normal = normal;
+  this->Modified();
+}
+
+void
+DRRProjectionGeometry::SetNormal(const VectorType & normal)
+{
+  const double length = normal.GetNorm();
+  if (!(length > 0.0) || !AllFinite(normal))
+  {
+    ThrowGeometryError("the normal (nrm) must be a finite, non-zero vector");
+  }
+  m_Normal = normal / length;
+  this->Modified();
+}
+
+void
+DRRProjectionGeometry::SetExplicitPerspectiveGeometry(const PointType &  source,
+                                                      const PointType &  detectorCenter,
+                                                      const VectorType & columnDirection,
+                                                      const VectorType & rowDirection)
+{
+  this->SetExplicitParallelGeometry(detectorCenter, columnDirection, rowDirection);
+  const double sid = (source - detectorCenter) * m_Normal;
+  if (!(sid > 0.0))
+  {
+    ThrowGeometryError("the source must lie on the +n side of the detector plane (n = row x column direction)");
+  }
+  const VectorType u = this->GetColumnDirection();
+  const VectorType v = this->GetRowDirection();
+  const PointType  foot = source - m_Normal * sid;
+  m_Projection = ProjectionEnum::Perspective;
+  m_SourceToDetectorDistance = sid;
+  m_SourceToIsocenterDistance = sid;
+  m_Isocenter = foot;
+  m_DetectorOffset[0] = (detectorCenter - foot) * u;
+  m_DetectorOffset[1] = (detectorCenter - foot) * v;
+  this->Modified();
+}
+
+void
+DRRProjectionGeometry::SetExplicitParallelGeometry(const PointType &  detectorCenter,
+                                                   const VectorType & columnDirection,
+                                                   const VectorType & rowDirection)
+{
+  const double uNorm = columnDirection.GetNorm();
+  const double vNorm = rowDirection.GetNorm();
+  if (!(uNorm > 0.0) || !(vNorm > 0.0) || !AllFinite(columnDirection) || !AllFinite(rowDirection))
+  {
+    ThrowGeometryError("the detector column and row directions must be finite, non-zero vectors");
+  }
+  const VectorType u = columnDirection / uNorm;
+  const VectorType v = rowDirection / vNorm;
+  if (std::abs(u * v) > orthogonalityTolerance)
+  {
+    ThrowGeometryError("the detector column and row directions are not orthogonal");
+  }
+  // v = u x n and u = vup x n with vup = -v give n = v x u.
+  m_Normal = Cross(v, u);
+  m_ViewUp = -v;
+  m_Projection = ProjectionEnum::Parallel;
+  // Place the source-side reference point so that the foot of the normal is the detector centre.
+  m_Isocenter = detectorCenter;
+  m_SourceToIsocenterDistance = m_SourceToDetectorDistance;
+  m_DetectorOffset.Fill(0.0);
+  this->Modified();
+}
+
+DRRProjectionGeometry::VectorType
+DRRProjectionGeometry::GetColumnDirection() const
+{
+  const VectorType u = Cross(m_ViewUp, m_Normal);
+  const double     norm = u.GetNorm();
+  return norm > 0.0 ? VectorType(u / norm) : u;
+}
+
+DRRProjectionGeometry::VectorType
+DRRProjectionGeometry::GetRowDirection() const
+{
+  return Cross(this->GetColumnDirection(), m_Normal);
+}
+
+DRRProjectionGeometry::PointType
+DRRProjectionGeometry::GetSourcePosition() const
+{
+  return m_Isocenter + m_Normal * m_SourceToIsocenterDistance;
+}
+
+DRRProjectionGeometry::PointType
+DRRProjectionGeometry::GetDetectorPlaneOrigin() const
+{
+  return this->GetSourcePosition() - m_Normal * m_SourceToDetectorDistance;
+}
+
+DRRProjectionGeometry::PointType
+DRRProjectionGeometry::GetDetectorCenter() const
+{
+  return this->GetDetectorPlaneOrigin() + this->GetColumnDirection() * m_DetectorOffset[0] +
+         this->GetRowDirection() * m_DetectorOffset[1];
+}
+
+DRRProjectionGeometry::PointType
+DRRProjectionGeometry::GetPixelCenter(double column, double row) const
+{
+  const double du = (column - 0.5 * (static_cast<double>(m_DetectorSize[0]) - 1.0)) * m_DetectorSpacing[0];
+  const double dv = (row - 0.5 * (static_cast<double>(m_DetectorSize[1]) - 1.0)) * m_DetectorSpacing[1];
+  return this->GetDetectorCenter() + this->GetColumnDirection() * du + this->GetRowDirection() * dv;
+}
+
+DRRProjectionGeometry::DetectorVectorType
+DRRProjectionGeometry::GetDetectorOrigin2D() const
+{
+  DetectorVectorType origin;
+  for (unsigned int d = 0; d < 2; ++d)
+  {
+    origin[d] = m_DetectorOffset[d] - 0.5 * (static_cast<double>(m_DetectorSize[d]) - 1.0) * m_DetectorSpacing[d];
+  }
+  return origin;
+}
+
+void
+DRRProjectionGeometry::VerifyGeometry() const
+{
+  if (m_Projection == ProjectionEnum::Perspective)
+  {
+    if (!(m_SourceToIsocenterDistance > 0.0) || !std::isfinite(m_SourceToIsocenterDistance))
+    {
+      ThrowGeometryError("the source to isocenter distance (SAD) must be positive and finite, got " +
+                         std::to_string(m_SourceToIsocenterDistance) + " mm");
+    }
+    if (!(m_SourceToDetectorDistance > 0.0) || !std::isfinite(m_SourceToDetectorDistance))
+    {
+      ThrowGeometryError("the source to detector distance (SID) must be positive and finite, got " +
+                         std::to_string(m_SourceToDetectorDistance) + " mm");
+    }
+  }
+  else if (!std::isfinite(m_SourceToIsocenterDistance) || !std::isfinite(m_SourceToDetectorDistance))
+  {
+    ThrowGeometryError("SAD and SID must be finite");
+  }
+  for (unsigned int d = 0; d < 2; ++d)
+  {
+    const char * axis = d == 0 ? "column (du)" : "row (dv)";
+    if (m_DetectorSize[d] == 0)
+    {
+      ThrowGeometryError(std::string("the detector has zero ") + (d == 0 ? "columns" : "rows"));
+    }
+    if (!(m_DetectorSpacing[d] > 0.0) || !std::isfinite(m_DetectorSpacing[d]))
+    {
+      ThrowGeometryError(std::string("the detector pixel spacing along the ") + axis +
+                         " must be positive and finite, got " + std::to_string(m_DetectorSpacing[d]) + " mm");
+    }
+    if (!std::isfinite(m_DetectorOffset[d]))
+    {
+      ThrowGeometryError("the detector offset must be finite");
+    }
+  }
+  if (!AllFinite(m_Isocenter.GetVectorFromOrigin()))
+  {
+    ThrowGeometryError("the isocenter must be finite");
+  }
+  if (!AllFinite(m_Normal) || std::abs(m_Normal.GetNorm() - 1.0) > 1e-9)
+  {
+    ThrowGeometryError("the normal must be a finite unit vector");
+  }
+  const double vupNorm = m_ViewUp.GetNorm();
+  if (!AllFinite(m_ViewUp) || !(vupNorm > 0.0) || Cross(m_ViewUp / vupNorm, m_Normal).GetNorm() < 1e-6)
+  {
+    ThrowGeometryError("the view-up vector (vup) is zero or parallel to the normal (nrm): the detector rows and "
+                       "columns are undefined");
+  }
+}
+
+void
+DRRProjectionGeometry::ParseGeometryLine(const std::string & rawLine, const std::string & where)
+{
+  const std::string        line = rawLine.substr(0, rawLine.find('#'));
+  std::istringstream       stream(line);
+  std::string              key;
+  std::vector<std::string> values;
+  if (!(stream >> key))
+  {
+    return; // blank or comment-only line
+  }
+  for (std::string token; stream >> token;)
+  {
+    values.push_back(token);
+  }
+  auto expect = [&](size_t count) {
+    if (values.size() != count)
+    {
+      ThrowGeometryError(where + "key '" + key + "' takes " + std::to_string(count) + " value(s), got " +
+                         std::to_string(values.size()));
+    }
+  };
+  auto vector3 = [&]() {
+    expect(3);
+    VectorType v;
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      v[d] = ParseNumber(values[d], key, where);
+    }
+    return v;
+  };
+  auto vector2 = [&]() {
+    expect(2);
+    DetectorVectorType v;
+    for (unsigned int d = 0; d < 2; ++d)
+    {
+      v[d] = ParseNumber(values[d], key, where);
+    }
+    return v;
+  };
+
+  if (key == "projection")
+  {
+    expect(1);
+    if (values[0] == "perspective")
+    {
+      this->SetProjection(ProjectionEnum::Perspective);
+    }
+    else if (values[0] == "parallel")
+    {
+      this->SetProjection(ProjectionEnum::Parallel);
+    }
+    else
+    {
+      ThrowGeometryError(where + "projection must be 'perspective' or 'parallel', got '" + values[0] + "'");
+    }
+  }
+  else if (key == "sad")
+  {
+    expect(1);
+    this->SetSourceToIsocenterDistance(ParseNumber(values[0], key, where));
+  }
+  else if (key == "sid")
+  {
+    expect(1);
+    this->SetSourceToDetectorDistance(ParseNumber(values[0], key, where));
+  }
+  else if (key == "gantry")
+  {
+    expect(1);
+    this->SetGantryAngleInDegrees(ParseNumber(values[0], key, where));
+  }
+  else if (key == "nrm")
+  {
+    this->SetNormal(vector3());
+  }
+  else if (key == "vup")
+  {
+    this->SetViewUp(vector3());
+  }
+  else if (key == "isocenter")
+  {
+    const VectorType v = vector3();
+    PointType        p;
+    p[0] = v[0];
+    p[1] = v[1];
+    p[2] = v[2];
+    this->SetIsocenter(p);
+  }
+  else if (key == "cols" || key == "rows")
+  {
+    expect(1);
+    DetectorSizeType size = m_DetectorSize;
+    size[key == "cols" ? 0 : 1] = ParseCount(values[0], key, where);
+    this->SetDetectorSize(size);
+  }
+  else if (key == "spacing")
+  {
+    this->SetDetectorSpacing(vector2());
+  }
+  else if (key == "offset")
+  {
+    this->SetDetectorOffset(vector2());
+  }
+  else
+  {
+    ThrowGeometryError(where + "unknown key '" + key +
+                       "' (known: projection, sad, sid, gantry, nrm, vup, isocenter, cols, rows, spacing, offset)");
+  }
+}
+
+void
+DRRProjectionGeometry::ReadGeometryFile(const std::string & fileName)
+{
+  std::ifstream file(fileName);
+  if (!file)
+  {
+    ThrowGeometryError("cannot open geometry file '" + fileName + "'");
+  }
+  std::string line;
+  for (unsigned int lineNumber = 1; std::getline(file, line); ++lineNumber)
+  {
+    this->ParseGeometryLine(line, fileName + ":" + std::to_string(lineNumber) + ": ");
+  }
+}
+
+void
+DRRProjectionGeometry::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "Projection: " << m_Projection << std::endl;
+  os << indent << "SourceToIsocenterDistance (mm): " << m_SourceToIsocenterDistance << std::endl;
+  os << indent << "SourceToDetectorDistance (mm): " << m_SourceToDetectorDistance << std::endl;
+  os << indent << "Isocenter (mm): " << m_Isocenter << std::endl;
+  os << indent << "GantryAngleInDegrees: " << m_GantryAngleInDegrees << std::endl;
+  os << indent << "Normal: " << m_Normal << std::endl;
+  os << indent << "ViewUp: " << m_ViewUp << std::endl;
+  os << indent << "DetectorSize (cols, rows): " << m_DetectorSize << std::endl;
+  os << indent << "DetectorSpacing (mm): " << m_DetectorSpacing << std::endl;
+  os << indent << "DetectorOffset (mm): " << m_DetectorOffset << std::endl;
+}
+} // namespace itk

@@ -1,0 +1,77 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkPointBasedDRREnums.h"
+
+namespace itk
+{
+std::ostream &
+operator<<(std::ostream & out, const PointBasedDRREnums::Projection value)
+{
+  return out << (value == PointBasedDRREnums::Projection::Perspective ? "Perspective" : "Parallel");
+}
+
+std::ostream &
+operator<<(std::ostream & out, const PointBasedDRREnums::ReconstructionKernel value)
+{
+  return out << (value == PointBasedDRREnums::ReconstructionKernel::Box ? "Box" : "Tent");
+}
+
+std::ostream &
+operator<<(std::ostream & out, const PointBasedDRREnums::Splat value)
+{
+  return out << (value == PointBasedDRREnums::Splat::Nearest ? "Nearest" : "Bilinear");
+}
+
+std::ostream &
+operator<<(std::ostream & out, const PointBasedDRREnums::OutputMode value)
+{
+  switch (value)
+  {
+    case PointBasedDRREnums::OutputMode::LineIntegral:
+      return out << "LineIntegral";
+    case PointBasedDRREnums::OutputMode::Transmission:
+      return out << "Transmission";
+    case PointBasedDRREnums::OutputMode::Gray8:
+      return out << "Gray8";
+    case PointBasedDRREnums::OutputMode::Gray16:
+      return out << "Gray16";
+  }
+  return out << "INVALID OutputMode";
+}
+
+std::ostream &
+operator<<(std::ostream & out, const PointBasedDRREnums::TransferFunction value)
+{
+  switch (value)
+  {
+    case PointBasedDRREnums::TransferFunction::Natural:
+      return out << "Natural";
+    case PointBasedDRREnums::TransferFunction::PiecewiseLinear:
+      return out << "PiecewiseLinear";
+    case PointBasedDRREnums::TransferFunction::Identity:
+      return out << "Identity";
+  }
+  return out << "INVALID TransferFunction";
+}
+
+std::ostream &
+operator<<(std::ostream & out, const PointBasedDRREnums::PointWeighting value)
+{
+  return out << (value == PointBasedDRREnums::PointWeighting::Unbiased ? "Unbiased" : "PaperCount");
+}
+} // namespace itk
