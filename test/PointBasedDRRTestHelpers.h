@@ -1,0 +1,117 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef PointBasedDRRTestHelpers_h
+#define PointBasedDRRTestHelpers_h
+
+#include "itkImage.h"
+#include "itkMath.h"
+
+#include <cmath>
+#include <vector>
+
+/** Small builders shared by the PointBasedDRR tests. */
+namespace PointBasedDRRTest
+{
+using HUVolumeType = itk::Image<short, 3>;
+using MuVolumeType = itk::Image<float, 3>;
+using ProjectionType = itk::Image<float, 2>;
+using Projection3DType = itk::Image<float, 3>;
+
+/** A zero-filled volume with the given grid. */
+template <typename TVolume>
+typename TVolume::Pointer
+MakeVolume(const typename TVolume::SizeType &      size,
+           const typename TVolume::SpacingType &   spacing,
+           const typename TVolume::PointType &     origin,
+           const typename TVolume::DirectionType & direction)
+{
+  auto volume = TVolume::New();
+  volume->SetRegions(size);
+  volume->SetSpacing(spacing);
+  volume->SetOrigin(origin);
+  volume->SetDirection(direction);
+  volume->Allocate();
+  volume->FillBuffer(0);
+  return volume;
+}
+
+/** Sets voxels low[a] <= index[a] <= high[a] to value. */
+template <typename TVolume>
+void
+FillBlock(TVolume * volume, const itk::Index<3> & low, const itk::Index<3> & high, typename TVolume::PixelType value)
+{
+  for (auto k = low[2]; k <= high[2]; ++k)
+  {
+    for (auto j = low[1]; j <= high[1]; ++j)
+    {
+      for (auto i = low[0]; i <= high[0]; ++i)
+      {
+        volume->SetPixel({ { i, j, k } }, value);
+      }
+    }
+  }
+}
+
+/** Rotation matrix about a unit axis by an angle in degrees. */
+inline itk::Matrix<double, 3, 3>
+RotationMatrix(const itk::Vector<double, 3> & axis, double angleInDegrees)
+{
+  const double              a = angleInDegrees * itk::Math::pi / 180.0;
+  const double              c = std::cos(a);
+  const double              s = std::sin(a);
+  const double              x = axis[0], y = axis[1], z = axis[2];
+  itk::Matrix<double, 3, 3> r;
+  r[0][0] = c + x * x * (1 - c);
+  r[0][1] = x * y * (1 - c) - z * s;
+  r[0][2] = x * z * (1 - c) + y * s;
+  r[1][0] = y * x * (1 - c) + z * s;
+  r[1][1] = c + y * y * (1 - c);
+  r[1][2] = y * z * (1 - c) - x * s;
+  r[2][0] = z * x * (1 - c) - y * s;
+  r[2][1] = z * y * (1 - c) + x * s;
+  r[2][2] = c + z * z * (1 - c);
+  return r;
+}
+
+/** Pixel values of an image as doubles, in buffer order. */
+template <typename TImage>
+std::vector<double>
+ToVector(const TImage * image)
+{
+  const auto *        buffer = image->GetBufferPointer();
+  std::vector<double> values(image->GetBufferedRegion().GetNumberOfPixels());
+  for (size_t p = 0; p < values.size(); ++p)
+  {
+    values[p] = static_cast<double>(buffer[p]);
+  }
+  return values;
+}
+
+/** Directory of the shared real CT data, or empty if absent. */
+inline std::string
+SharedDataDirectory()
+{
+#ifdef POINTBASEDDRR_SHARED_DATA_DIR
+  return POINTBASEDDRR_SHARED_DATA_DIR;
+#else
+  return "";
+#endif
+}
+} // namespace PointBasedDRRTest
+
+#endif
