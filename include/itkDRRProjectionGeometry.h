@@ -26,6 +26,9 @@
 #include "itkPointBasedDRREnums.h"
 #include "PointBasedDRRExport.h"
 
+#include <string>
+#include <vector>
+
 namespace itk
 {
 /** \class DRRProjectionGeometry
@@ -173,6 +176,9 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
+  void
+  ApplyGeometryKey(const std::string & key, const std::vector<std::string> & values, const std::string & where);
+
   ProjectionEnum     m_Projection{ ProjectionEnum::Perspective };
   double             m_SourceToIsocenterDistance{ 1000.0 };
   double             m_SourceToDetectorDistance{ 1500.0 };

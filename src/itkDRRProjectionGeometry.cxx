@@ -54,6 +54,30 @@ ThrowGeometryError(const std::string & message)
   throw e;
 }
 
+/** Unit column and row directions and the normal n = v x u of an explicit detector (v = u x n and u = vup x n with
+ * vup = -v give n = v x u). Throws, changing nothing, if the directions are zero, non-finite or not orthogonal. */
+void
+DetectorFrame(const DRRProjectionGeometry::VectorType & columnDirection,
+              const DRRProjectionGeometry::VectorType & rowDirection,
+              DRRProjectionGeometry::VectorType &       u,
+              DRRProjectionGeometry::VectorType &       v,
+              DRRProjectionGeometry::VectorType &       n)
+{
+  const double uNorm = columnDirection.GetNorm();
+  const double vNorm = rowDirection.GetNorm();
+  if (!(uNorm > 0.0) || !(vNorm > 0.0) || !AllFinite(columnDirection) || !AllFinite(rowDirection))
+  {
+    ThrowGeometryError("the detector column and row directions must be finite, non-zero vectors");
+  }
+  u = columnDirection / uNorm;
+  v = rowDirection / vNorm;
+  if (std::abs(u * v) > orthogonalityTolerance)
+  {
+    ThrowGeometryError("the detector column and row directions are not orthogonal");
+  }
+  n = Cross(v, u);
+}
+
 /** Strict number parsing: the whole token must be a finite number. */
 double
 ParseNumber(const std::string & token, const std::string & key, const std::string & where)
@@ -126,16 +150,17 @@ DRRProjectionGeometry::SetExplicitPerspectiveGeometry(const PointType &  source,
                                                       const VectorType & columnDirection,
                                                       const VectorType & rowDirection)
 {
-  this->SetExplicitParallelGeometry(detectorCenter, columnDirection, rowDirection);
-  const double sid = (source - detectorCenter) * m_Normal;
-  if (!(sid > 0.0))
+  VectorType u, v, n;
+  DetectorFrame(columnDirection, rowDirection, u, v, n);
+  const double sid = (source - detectorCenter) * n;
+  if (!(sid > 0.0) || !AllFinite(source.GetVectorFromOrigin()))
   {
     ThrowGeometryError("the source must lie on the +n side of the detector plane (n = row x column direction)");
   }
-  const VectorType u = this->GetColumnDirection();
-  const VectorType v = this->GetRowDirection();
-  const PointType  foot = source - m_Normal * sid;
+  const PointType foot = source - n * sid;
   m_Projection = ProjectionEnum::Perspective;
+  m_Normal = n;
+  m_ViewUp = -v;
   m_SourceToDetectorDistance = sid;
   m_SourceToIsocenterDistance = sid;
   m_Isocenter = foot;
@@ -149,22 +174,11 @@ DRRProjectionGeometry::SetExplicitParallelGeometry(const PointType &  detectorCe
                                                    const VectorType & columnDirection,
                                                    const VectorType & rowDirection)
 {
-  const double uNorm = columnDirection.GetNorm();
-  const double vNorm = rowDirection.GetNorm();
-  if (!(uNorm > 0.0) || !(vNorm > 0.0) || !AllFinite(columnDirection) || !AllFinite(rowDirection))
-  {
-    ThrowGeometryError("the detector column and row directions must be finite, non-zero vectors");
-  }
-  const VectorType u = columnDirection / uNorm;
-  const VectorType v = rowDirection / vNorm;
-  if (std::abs(u * v) > orthogonalityTolerance)
-  {
-    ThrowGeometryError("the detector column and row directions are not orthogonal");
-  }
-  // v = u x n and u = vup x n with vup = -v give n = v x u.
-  m_Normal = Cross(v, u);
-  m_ViewUp = -v;
+  VectorType u, v, n;
+  DetectorFrame(columnDirection, rowDirection, u, v, n);
   m_Projection = ProjectionEnum::Parallel;
+  m_Normal = n;
+  m_ViewUp = -v;
   // Place the source-side reference point so that the foot of the normal is the detector centre.
   m_Isocenter = detectorCenter;
   m_SourceToIsocenterDistance = m_SourceToDetectorDistance;
@@ -292,6 +306,26 @@ DRRProjectionGeometry::ParseGeometryLine(const std::string & rawLine, const std:
   {
     values.push_back(token);
   }
+  try
+  {
+    this->ApplyGeometryKey(key, values, where);
+  }
+  catch (const ExceptionObject & e)
+  {
+    const std::string message = e.GetDescription();
+    if (where.empty() || message.find(where) != std::string::npos)
+    {
+      throw;
+    }
+    ThrowGeometryError(where + "key '" + key + "': " + message);
+  }
+}
+
+void
+DRRProjectionGeometry::ApplyGeometryKey(const std::string &              key,
+                                        const std::vector<std::string> & values,
+                                        const std::string &              where)
+{
   auto expect = [&](size_t count) {
     if (values.size() != count)
     {
