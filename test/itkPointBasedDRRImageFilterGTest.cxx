@@ -1,1 +1,536 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// Statistical proof that the point-based estimate is unbiased for the exact pixel-averaged line integral, that its
+// standard-error output predicts its spread, that the paper's unweighted count is biased in perspective, and that a
+// seed fixes the image bit for bit on any number of threads.
+#include "itkPointBasedDRRImageFilter.h"
+#include "itkExactDRRImageFilter.h"
+#include "itkAffineTransform.h"
+#include "itkDRRPhiloxRandom.h"
+#include "PointBasedDRRTestHelpers.h"
+
 #include "gtest/gtest.h"
+
+#include <cstring>
+#include <numeric>
+
+namespace
+{
+using namespace PointBasedDRRTest;
+using KernelEnum = itk::PointBasedDRREnums::ReconstructionKernel;
+using SplatEnum = itk::PointBasedDRREnums::Splat;
+using ProjectionEnum = itk::PointBasedDRREnums::Projection;
+using WeightingEnum = itk::PointBasedDRREnums::PointWeighting;
+
+// Family-wise bound for |z| over all pixels of one scenario: Bonferroni over <= 64 pixels at alpha = 1e-4 gives a
+// per-pixel two-sided 1.6e-6, i.e. |z| < 4.8 for a normal mean; 5 leaves room for the t-distribution of 64 seeds.
+constexpr double zBound = 5.0;
+
+/** A small CT-like phantom: 6 x 7 x 5 voxels of a few HU levels (air included), anisotropic spacing, rotated
+ * direction, off-centre origin. */
+template <typename TVolume>
+typename TVolume::Pointer
+MakePhantom(bool continuousValues)
+{
+  typename TVolume::SizeType    size = { { 6, 7, 5 } };
+  typename TVolume::SpacingType spacing;
+  spacing[0] = 2.0;
+  spacing[1] = 2.5;
+  spacing[2] = 3.0;
+  typename TVolume::PointType origin;
+  origin[0] = -4.0;
+  origin[1] = -9.0;
+  origin[2] = -3.0;
+  itk::Vector<double, 3> axis;
+  axis[0] = 1.0 / std::sqrt(14.0);
+  axis[1] = 2.0 / std::sqrt(14.0);
+  axis[2] = 3.0 / std::sqrt(14.0);
+  typename TVolume::DirectionType direction;
+  direction = RotationMatrix(axis, 25.0);
+  auto         volume = MakeVolume<TVolume>(size, spacing, origin, direction);
+  const short  levels[5] = { -1000, -200, 0, 400, 1500 };
+  unsigned int state = 12345u;
+  auto *       buffer = volume->GetBufferPointer();
+  for (size_t v = 0; v < volume->GetBufferedRegion().GetNumberOfPixels(); ++v)
+  {
+    state = state * 1664525u + 1013904223u;
+    const unsigned int r = state >> 8;
+    buffer[v] = continuousValues ? static_cast<typename TVolume::PixelType>(0.001 + 0.04 * (r % 10007) / 10007.0)
+                                 : static_cast<typename TVolume::PixelType>(levels[r % 5]);
+  }
+  return volume;
+}
+
+struct Scenario
+{
+  ProjectionEnum projection;
+  KernelEnum     kernel;
+  SplatEnum      splat;
+  bool           muInput;   // float input, mu per voxel continuous: binned levels with correction weights
+  bool           transform; // an anisotropic affine transform between room and volume
+};
+
+std::ostream &
+operator<<(std::ostream & os, const Scenario & s)
+{
+  return os << s.projection << "/" << s.kernel << "/" << s.splat << (s.muInput ? "/mu-input" : "")
+            << (s.transform ? "/affine" : "");
+}
+
+itk::DRRProjectionGeometry::Pointer
+MakeGeometry(ProjectionEnum projection, unsigned int cols, unsigned int rows, double du, double dv)
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetProjection(projection);
+  geometry->SetSourceToIsocenterDistance(50.0); // strong magnification change across the phantom
+  geometry->SetSourceToDetectorDistance(90.0);
+  geometry->SetGantryAngleInDegrees(30.0);
+  itk::Point<double, 3> iso;
+  iso[0] = 1.0;
+  iso[1] = -1.0;
+  iso[2] = 2.0;
+  geometry->SetIsocenter(iso);
+  geometry->SetDetectorSize({ { cols, rows } });
+  itk::Vector<double, 2> spacing;
+  spacing[0] = du;
+  spacing[1] = dv;
+  geometry->SetDetectorSpacing(spacing);
+  itk::Vector<double, 2> offset;
+  offset[0] = 1.5;
+  offset[1] = -2.0;
+  geometry->SetDetectorOffset(offset);
+  return geometry;
+}
+
+using AffineType = itk::AffineTransform<double, 3>;
+
+AffineType::Pointer
+MakeAffine()
+{
+  auto                   affine = AffineType::New();
+  itk::Vector<double, 3> axis;
+  axis[0] = 0.0;
+  axis[1] = 0.6;
+  axis[2] = 0.8;
+  affine->Rotate3D(axis, 0.3);
+  itk::Vector<double, 3> scale;
+  scale[0] = 1.1;
+  scale[1] = 0.9;
+  scale[2] = 1.05;
+  affine->Scale(scale);
+  itk::Vector<double, 3> translation;
+  translation[0] = 2.0;
+  translation[1] = -1.0;
+  translation[2] = 0.5;
+  affine->Translate(translation);
+  return affine;
+}
+
+/** Everything a scenario is checked against: the exact mean image of its estimator. */
+class ReferenceBuilder
+{
+public:
+  ReferenceBuilder(const Scenario & scenario, unsigned int cols, unsigned int rows, double du, double dv)
+    : m_Scenario(scenario)
+    , m_Cols(cols)
+    , m_Rows(rows)
+    , m_DU(du)
+    , m_DV(dv)
+  {}
+
+  /** Exact expectation of the estimator: the pixel-area average (nearest) or the one-pixel-tent weighted average
+   * (bilinear) of the exact line integral, by a midpoint rule: one ray per pixel of a detector `fine` times finer. The fine detector reaches one coarse pixel past each edge, where bilinear splats still deposit. */
+  template <typename TVolume>
+  std::vector<double>
+  Compute(const TVolume * volume, unsigned int fine) const
+  {
+    using ExactType = itk::ExactDRRImageFilter<TVolume, ProjectionType>;
+    auto exact = ExactType::New();
+    exact->SetInput(volume);
+    this->Configure(exact.GetPointer());
+    exact->SetGeometry(MakeGeometry(m_Scenario.projection, (m_Cols + 2) * fine, (m_Rows + 2) * fine,
+                                    m_DU / fine, m_DV / fine));
+    exact->SetReconstructionKernel(m_Scenario.kernel);
+    exact->SetRaysPerPixelSide(1);
+    exact->Update();
+    const std::vector<double> fineImage = ToVector(exact->GetOutput());
+    const unsigned int        fineCols = (m_Cols + 2) * fine;
+    std::vector<double>       reference(m_Cols * m_Rows, 0.0);
+    for (unsigned int r = 0; r < m_Rows; ++r)
+    {
+      for (unsigned int c = 0; c < m_Cols; ++c)
+      {
+        double sum = 0.0;
+        for (unsigned int fr = 0; fr < (m_Rows + 2) * fine; ++fr)
+        {
+          // Offset of the fine pixel centre from coarse pixel centre (c, r), in coarse pixels.
+          const double dr = (fr + 0.5) / fine - 1.0 - (r + 0.5);
+          for (unsigned int fc = 0; fc < fineCols; ++fc)
+          {
+            const double dc = (fc + 0.5) / fine - 1.0 - (c + 0.5);
+            double       kernel = 0.0;
+            if (m_Scenario.splat == SplatEnum::Nearest)
+            {
+              kernel = (std::abs(dc) < 0.5 && std::abs(dr) < 0.5) ? 1.0 : 0.0;
+            }
+            else
+            {
+              kernel = std::max(0.0, 1.0 - std::abs(dc)) * std::max(0.0, 1.0 - std::abs(dr));
+            }
+            sum += kernel * fineImage[fr * fineCols + fc];
+          }
+        }
+        reference[r * m_Cols + c] = sum / (fine * fine);
+      }
+    }
+    return reference;
+  }
+
+  template <typename TFilter>
+  void
+  Configure(TFilter * filter) const
+  {
+    if (m_Scenario.muInput)
+    {
+      filter->GetTransferFunction()->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+    }
+    if (m_Scenario.transform)
+    {
+      filter->SetTransform(MakeAffine());
+    }
+  }
+
+private:
+  Scenario     m_Scenario;
+  unsigned int m_Cols;
+  unsigned int m_Rows;
+  double       m_DU;
+  double       m_DV;
+};
+
+struct SeedStatistics
+{
+  std::vector<double> Mean;
+  std::vector<double> Variance;          // observed across seeds
+  std::vector<double> PredictedVariance; // mean of the squared standard-error outputs
+};
+
+template <typename TVolume>
+SeedStatistics
+RenderSeeds(const TVolume *          volume,
+            const Scenario &         scenario,
+            const ReferenceBuilder & builder,
+            itk::DRRProjectionGeometry * geometry,
+            WeightingEnum            weighting,
+            uint64_t                 samples,
+            unsigned int             seeds)
+{
+  auto drr = itk::PointBasedDRRImageFilter<TVolume, ProjectionType>::New();
+  drr->SetInput(volume);
+  builder.Configure(drr.GetPointer());
+  drr->SetGeometry(geometry);
+  drr->SetReconstructionKernel(scenario.kernel);
+  drr->SetSplat(scenario.splat);
+  drr->SetPointWeighting(weighting);
+  drr->SetNumberOfSamples(samples);
+  const size_t   pixels = geometry->GetDetectorSize()[0] * geometry->GetDetectorSize()[1];
+  SeedStatistics stats;
+  stats.Mean.assign(pixels, 0.0);
+  stats.Variance.assign(pixels, 0.0);
+  stats.PredictedVariance.assign(pixels, 0.0);
+  std::vector<double> sumOfSquares(pixels, 0.0);
+  for (unsigned int seed = 0; seed < seeds; ++seed)
+  {
+    drr->SetSeed(1000 + seed);
+    drr->Update();
+    const auto values = ToVector(drr->GetOutput());
+    const auto errors = ToVector(drr->GetStandardErrorOutput());
+    for (size_t p = 0; p < pixels; ++p)
+    {
+      stats.Mean[p] += values[p];
+      sumOfSquares[p] += values[p] * values[p];
+      stats.PredictedVariance[p] += errors[p] * errors[p];
+    }
+  }
+  for (size_t p = 0; p < pixels; ++p)
+  {
+    stats.Mean[p] /= seeds;
+    stats.Variance[p] = (sumOfSquares[p] - seeds * stats.Mean[p] * stats.Mean[p]) / (seeds - 1.0);
+    stats.PredictedVariance[p] /= seeds;
+  }
+  return stats;
+}
+
+class PointBasedDRRUnbiased : public testing::TestWithParam<Scenario>
+{};
+
+template <typename TVolume>
+void
+CheckUnbiased(const Scenario & scenario)
+{
+  const unsigned int cols = 8, rows = 6;
+  const bool         perspective = scenario.projection == ProjectionEnum::Perspective;
+  const double       du = perspective ? 7.0 : 3.5, dv = perspective ? 8.0 : 4.0;
+  const auto         volume = MakePhantom<TVolume>(scenario.muInput);
+  ReferenceBuilder   builder(scenario, cols, rows, du, dv);
+  // The midpoint rule converges at second order here (the line integral is continuous with kinks), so Richardson
+  // extrapolation of 64 x 64 and 32 x 32 rays per pixel gives the reference, and its correction bounds its error.
+  const auto fine = builder.Compute(volume.GetPointer(), 64);
+  const auto coarse = builder.Compute(volume.GetPointer(), 32);
+  std::vector<double> reference(fine.size()), referenceError(fine.size());
+  for (size_t p = 0; p < fine.size(); ++p)
+  {
+    reference[p] = fine[p] + (fine[p] - coarse[p]) / 3.0;
+    referenceError[p] = std::abs(fine[p] - coarse[p]) / 3.0;
+  }
+  const double peak = *std::max_element(reference.begin(), reference.end());
+
+  const unsigned int seeds = 64;
+  auto               geometry = MakeGeometry(scenario.projection, cols, rows, du, dv);
+  const auto stats = RenderSeeds(volume.GetPointer(), scenario, builder, geometry, WeightingEnum::Unbiased, 200000,
+                                 seeds);
+
+  // The reference's error estimate enters the z denominator. On 90% of the pixels it must stay below half the
+  // standard error of the mean (inflating the denominator by at most 12%), or the test would have lost its power.
+  double worstZ = 0.0, observed = 0.0, predicted = 0.0;
+  size_t pixelsWithSignal = 0, pixelsWithConvergedReference = 0;
+  for (size_t p = 0; p < reference.size(); ++p)
+  {
+    const double standardErrorOfMean = std::sqrt(stats.Variance[p] / seeds);
+    if (reference[p] == 0.0)
+    {
+      EXPECT_EQ(stats.Mean[p], 0.0) << "pixel " << p << " outside the shadow got signal";
+      continue;
+    }
+    if (stats.Variance[p] == 0.0)
+    {
+      // No point reached this pixel in any seed: only acceptable for a vanishing sliver of the shadow.
+      EXPECT_LT(reference[p], 1e-4 * peak) << scenario << " pixel " << p << " never reached";
+      continue;
+    }
+    pixelsWithConvergedReference += referenceError[p] < 0.5 * standardErrorOfMean ? 1 : 0;
+    const double z = std::abs(stats.Mean[p] - reference[p]) /
+                     std::sqrt(standardErrorOfMean * standardErrorOfMean + referenceError[p] * referenceError[p]);
+    worstZ = std::max(worstZ, z);
+    observed += stats.Variance[p];
+    predicted += stats.PredictedVariance[p];
+    // Per pixel, the observed variance of 64 seeds is predicted variance * chi2(63) / 63: within +-5 sigma.
+    const double ratio = stats.Variance[p] / stats.PredictedVariance[p];
+    EXPECT_NEAR(ratio, 1.0, zBound * std::sqrt(2.0 / (seeds - 1.0))) << scenario << " pixel " << p;
+    ++pixelsWithSignal;
+  }
+  EXPECT_GE(pixelsWithConvergedReference, 0.9 * pixelsWithSignal) << scenario << ": reference not converged";
+  EXPECT_LT(worstZ, zBound) << scenario << ": the mean over seeds is off the exact reference";
+  // Pooled over pixels, the variance ratio is known to sqrt(2 / ((seeds - 1) pixels)).
+  EXPECT_NEAR(observed / predicted, 1.0, zBound * std::sqrt(2.0 / ((seeds - 1.0) * pixelsWithSignal)))
+    << scenario << ": the standard-error output does not predict the spread";
+  EXPECT_GT(pixelsWithSignal, reference.size() / 2);
+  testing::Test::RecordProperty("worst_z", std::to_string(worstZ));
+}
+
+TEST_P(PointBasedDRRUnbiased, MeanMatchesExactReferenceAndSpreadMatchesStandardError)
+{
+  const Scenario scenario = GetParam();
+  if (scenario.muInput)
+  {
+    CheckUnbiased<MuVolumeType>(scenario);
+  }
+  else
+  {
+    CheckUnbiased<HUVolumeType>(scenario);
+  }
+}
+
+std::vector<Scenario>
+AllScenarios()
+{
+  std::vector<Scenario> scenarios;
+  for (auto projection : { ProjectionEnum::Perspective, ProjectionEnum::Parallel })
+  {
+    for (auto kernel : { KernelEnum::Box, KernelEnum::Tent })
+    {
+      for (auto splat : { SplatEnum::Nearest, SplatEnum::Bilinear })
+      {
+        scenarios.push_back({ projection, kernel, splat, false, false });
+      }
+    }
+  }
+  scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Nearest, true, false });
+  scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Bilinear, false, true });
+  return scenarios;
+}
+
+INSTANTIATE_TEST_SUITE_P(KernelsSplatsBeams, PointBasedDRRUnbiased, testing::ValuesIn(AllScenarios()));
+
+TEST(PointBasedDRRPaperCount, PerspectiveBiasIsMeasuredAndMatchesTheMagnification)
+{
+  // The paper counts every point with weight 1. In perspective a point at depth z, landing at (u, v), stands for
+  // 1 / w = (z / SID)^2 SID / R of what it should: the count underestimates by that factor, which across this
+  // phantom ranges over the values of 1 / w at its corners.
+  const Scenario scenario{ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, false, false };
+  const unsigned int cols = 8, rows = 6;
+  const auto         volume = MakePhantom<HUVolumeType>(false);
+  ReferenceBuilder   builder(scenario, cols, rows, 7.0, 8.0);
+  const auto         reference = builder.Compute(volume.GetPointer(), 8);
+  auto               geometry = MakeGeometry(scenario.projection, cols, rows, 7.0, 8.0);
+  const unsigned int seeds = 16;
+  const auto         counted =
+    RenderSeeds(volume.GetPointer(), scenario, builder, geometry, WeightingEnum::PaperCount, 200000, seeds);
+  const auto weighted =
+    RenderSeeds(volume.GetPointer(), scenario, builder, geometry, WeightingEnum::Unbiased, 200000, seeds);
+
+  const double referenceSum = std::accumulate(reference.begin(), reference.end(), 0.0);
+  const double countedSum = std::accumulate(counted.Mean.begin(), counted.Mean.end(), 0.0);
+  const double weightedSum = std::accumulate(weighted.Mean.begin(), weighted.Mean.end(), 0.0);
+  const double countedSpread =
+    std::sqrt(std::accumulate(counted.Variance.begin(), counted.Variance.end(), 0.0) / seeds);
+  const double weightedSpread =
+    std::sqrt(std::accumulate(weighted.Variance.begin(), weighted.Variance.end(), 0.0) / seeds);
+
+  // Bounds of 1 / w over the phantom's box corners: z from the source, the obliquity at the corner's shadow.
+  const double sid = geometry->GetSourceToDetectorDistance();
+  double       lowest = 1e300, highest = 0.0;
+  const auto   source = geometry->GetSourcePosition();
+  const auto   n = geometry->GetNormal();
+  for (unsigned int corner = 0; corner < 8; ++corner)
+  {
+    itk::ContinuousIndex<double, 3> index;
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      index[a] = (corner >> a) & 1u ? volume->GetLargestPossibleRegion().GetSize()[a] - 0.5 : -0.5;
+    }
+    itk::Point<double, 3> x;
+    volume->TransformContinuousIndexToPhysicalPoint(index, x);
+    const auto   d = x - source;
+    const double z = -(d * n);
+    const double r = d.GetNorm();
+    const double inverseWeight = (z / sid) * (z / sid) * sid / (sid * r / z); // (z/SID)^2 SID / R, R = SID r / z
+    lowest = std::min(lowest, inverseWeight);
+    highest = std::max(highest, inverseWeight);
+  }
+  const double ratio = countedSum / referenceSum;
+  std::cout << "paper count / exact, image sum: " << ratio << " (1/w over the phantom: " << lowest << " .. "
+            << highest << "); unbiased / exact: " << weightedSum / referenceSum << std::endl;
+  RecordProperty("paper_count_bias", std::to_string(ratio - 1.0));
+  EXPECT_GT(ratio, lowest);
+  EXPECT_LT(ratio, highest);
+  EXPECT_GT(std::abs(countedSum - referenceSum) / countedSpread, 20.0) << "the count's bias should be unmistakable";
+  EXPECT_LT(std::abs(weightedSum - referenceSum) / weightedSpread, zBound);
+}
+
+TEST(PointBasedDRRPaperCount, ParallelCountIsUnbiased)
+{
+  // In parallel beam every weight is 1: the paper's count is the unbiased estimator, bit for bit.
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  auto       geometry = MakeGeometry(ProjectionEnum::Parallel, 8, 6, 4.5, 5.0);
+  using FilterType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  std::vector<double> images[2];
+  for (int w = 0; w < 2; ++w)
+  {
+    auto drr = FilterType::New();
+    drr->SetInput(volume);
+    drr->SetGeometry(geometry);
+    drr->SetNumberOfSamples(100000);
+    drr->SetPointWeighting(w == 0 ? WeightingEnum::Unbiased : WeightingEnum::PaperCount);
+    drr->Update();
+    images[w] = ToVector(drr->GetOutput());
+  }
+  EXPECT_EQ(images[0], images[1]);
+}
+
+template <typename TOutput>
+std::vector<double>
+RenderWithThreads(unsigned int threads, uint64_t seed, SplatEnum splat, KernelEnum kernel, bool standardError)
+{
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  auto       drr = itk::PointBasedDRRImageFilter<HUVolumeType, TOutput>::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0));
+  drr->SetNumberOfSamples(1000003); // 16 chunks, the last one partial
+  drr->SetSeed(seed);
+  drr->SetSplat(splat);
+  drr->SetReconstructionKernel(kernel);
+  drr->GetMultiThreader()->SetMaximumNumberOfThreads(threads);
+  drr->SetNumberOfWorkUnits(threads);
+  drr->Update();
+  return ToVector(standardError ? drr->GetStandardErrorOutput() : drr->GetOutput());
+}
+
+TEST(PointBasedDRRReproducibility, SameSeedSameBitsOnOneTwoAndSevenThreads)
+{
+  for (auto splat : { SplatEnum::Nearest, SplatEnum::Bilinear })
+  {
+    for (bool standardError : { false, true })
+    {
+      const auto one = RenderWithThreads<ProjectionType>(1, 7, splat, KernelEnum::Tent, standardError);
+      const auto two = RenderWithThreads<ProjectionType>(2, 7, splat, KernelEnum::Tent, standardError);
+      const auto seven = RenderWithThreads<ProjectionType>(7, 7, splat, KernelEnum::Tent, standardError);
+      ASSERT_EQ(one.size(), two.size());
+      EXPECT_EQ(0, std::memcmp(one.data(), two.data(), one.size() * sizeof(double))) << splat;
+      EXPECT_EQ(0, std::memcmp(one.data(), seven.data(), one.size() * sizeof(double))) << splat;
+    }
+  }
+  const auto other = RenderWithThreads<ProjectionType>(2, 8, SplatEnum::Nearest, KernelEnum::Tent, false);
+  EXPECT_NE(other, RenderWithThreads<ProjectionType>(2, 7, SplatEnum::Nearest, KernelEnum::Tent, false))
+    << "a different seed must give a different image";
+}
+
+TEST(PointBasedDRRReproducibility, OneSlice3DOutputEquals2DOutput)
+{
+  const auto flat = RenderWithThreads<ProjectionType>(2, 3, SplatEnum::Nearest, KernelEnum::Box, false);
+  const auto slice = RenderWithThreads<Projection3DType>(2, 3, SplatEnum::Nearest, KernelEnum::Box, false);
+  EXPECT_EQ(flat, slice);
+}
+
+TEST(PointBasedDRRAccumulation, SeventeenMillionPointsInOnePixelSumExactly)
+{
+  // Parallel beam onto one pixel larger than the volume's shadow: every point lands, each with weight 1, so the
+  // estimate is exactly M / a whatever the randomness: any loss in accumulating 2^24 + 1 points shows.
+  auto volume = MakePhantom<HUVolumeType>(false);
+  auto geometry = MakeGeometry(ProjectionEnum::Parallel, 1, 1, 80.0, 80.0);
+  geometry->SetDetectorOffset(itk::Vector<double, 2>(0.0));
+  auto drr = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(geometry);
+  drr->SetNumberOfSamples((uint64_t{ 1 } << 24) + 1);
+  drr->Update();
+  // M from the phantom by hand: sum of mu_water (1 + HU / 1000) over voxels times the voxel volume.
+  double muSum = 0.0;
+  for (size_t v = 0; v < volume->GetBufferedRegion().GetNumberOfPixels(); ++v)
+  {
+    muSum += std::max(0.0, 0.02059 * (1.0 + volume->GetBufferPointer()[v] / 1000.0));
+  }
+  const double expected = muSum * 2.0 * 2.5 * 3.0 / (80.0 * 80.0);
+  EXPECT_EQ(drr->GetPointsOnDetector(), (uint64_t{ 1 } << 24) + 1);
+  EXPECT_NEAR(drr->GetOutput()->GetBufferPointer()[0], expected, 2e-7 * expected);
+  // Every point contributed the same weight: the standard error of a constant sum is zero.
+  EXPECT_NEAR(drr->GetStandardErrorOutput()->GetBufferPointer()[0], 0.0, 1e-6 * expected);
+}
+
+TEST(PointBasedDRRRandom, PhiloxMatchesRandom123KnownAnswers)
+{
+  // Known-answer vectors of Philox4x32-10 from the Random123 distribution (kat_vectors).
+  using R = itk::DRRPhiloxRandom;
+  EXPECT_EQ(R::Philox({ { 0, 0, 0, 0 } }, { { 0, 0 } }),
+            (R::BlockType{ { 0x6627e8d5u, 0xe169c58du, 0xbc57ac4cu, 0x9b00dbd8u } }));
+  EXPECT_EQ(R::Philox({ { 0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu } }, { { 0xffffffffu, 0xffffffffu } }),
+            (R::BlockType{ { 0x408f276du, 0x41c83b0eu, 0xa20bc7c6u, 0x6d5451fdu } }));
+  EXPECT_EQ(R::Philox({ { 0x243f6a88u, 0x85a308d3u, 0x13198a2eu, 0x03707344u } }, { { 0xa4093822u, 0x299f31d0u } }),
+            (R::BlockType{ { 0xd16cfe09u, 0x94fdccebu, 0x5001e420u, 0x24126ea1u } }));
+}
+} // namespace
