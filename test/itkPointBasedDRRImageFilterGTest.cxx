@@ -146,15 +146,12 @@ class ReferenceBuilder
 {
 public:
   ReferenceBuilder(const Scenario & scenario, unsigned int cols, unsigned int rows, double du, double dv)
-    : m_Scenario(scenario)
-    , m_Cols(cols)
-    , m_Rows(rows)
-    , m_DU(du)
-    , m_DV(dv)
+    : m_Scenario(scenario), m_Cols(cols), m_Rows(rows), m_DU(du), m_DV(dv)
   {}
 
   /** Exact expectation of the estimator: the pixel-area average (nearest) or the one-pixel-tent weighted average
-   * (bilinear) of the exact line integral, by a midpoint rule: one ray per pixel of a detector `fine` times finer. The fine detector reaches one coarse pixel past each edge, where bilinear splats still deposit. */
+   * (bilinear) of the exact line integral, by a midpoint rule: one ray per pixel of a detector `fine` times finer. The
+   * fine detector reaches one coarse pixel past each edge, where bilinear splats still deposit. */
   template <typename TVolume>
   std::vector<double>
   Compute(const TVolume * volume, unsigned int fine) const
@@ -163,8 +160,8 @@ public:
     auto exact = ExactType::New();
     exact->SetInput(volume);
     this->Configure(exact.GetPointer());
-    exact->SetGeometry(MakeGeometry(m_Scenario.projection, (m_Cols + 2) * fine, (m_Rows + 2) * fine,
-                                    m_DU / fine, m_DV / fine));
+    exact->SetGeometry(
+      MakeGeometry(m_Scenario.projection, (m_Cols + 2) * fine, (m_Rows + 2) * fine, m_DU / fine, m_DV / fine));
     exact->SetReconstructionKernel(m_Scenario.kernel);
     exact->SetRaysPerPixelSide(1);
     exact->Update();
@@ -232,13 +229,13 @@ struct SeedStatistics
 
 template <typename TVolume>
 SeedStatistics
-RenderSeeds(const TVolume *          volume,
-            const Scenario &         scenario,
-            const ReferenceBuilder & builder,
+RenderSeeds(const TVolume *              volume,
+            const Scenario &             scenario,
+            const ReferenceBuilder &     builder,
             itk::DRRProjectionGeometry * geometry,
-            WeightingEnum            weighting,
-            uint64_t                 samples,
-            unsigned int             seeds)
+            WeightingEnum                weighting,
+            uint64_t                     samples,
+            unsigned int                 seeds)
 {
   auto drr = itk::PointBasedDRRImageFilter<TVolume, ProjectionType>::New();
   drr->SetInput(volume);
@@ -290,8 +287,8 @@ CheckUnbiased(const Scenario & scenario)
   ReferenceBuilder   builder(scenario, cols, rows, du, dv);
   // The midpoint rule converges at second order here (the line integral is continuous with kinks), so Richardson
   // extrapolation of 64 x 64 and 32 x 32 rays per pixel gives the reference, and its correction bounds its error.
-  const auto fine = builder.Compute(volume.GetPointer(), 64);
-  const auto coarse = builder.Compute(volume.GetPointer(), 32);
+  const auto          fine = builder.Compute(volume.GetPointer(), 64);
+  const auto          coarse = builder.Compute(volume.GetPointer(), 32);
   std::vector<double> reference(fine.size()), referenceError(fine.size());
   for (size_t p = 0; p < fine.size(); ++p)
   {
@@ -302,8 +299,8 @@ CheckUnbiased(const Scenario & scenario)
 
   const unsigned int seeds = 64;
   auto               geometry = MakeGeometry(scenario.projection, cols, rows, du, dv);
-  const auto stats = RenderSeeds(volume.GetPointer(), scenario, builder, geometry, WeightingEnum::Unbiased, 200000,
-                                 seeds);
+  const auto         stats =
+    RenderSeeds(volume.GetPointer(), scenario, builder, geometry, WeightingEnum::Unbiased, 200000, seeds);
 
   // The reference's error estimate enters the z denominator. On 90% of the pixels it must stay below half the
   // standard error of the mean (inflating the denominator by at most 12%), or the test would have lost its power.
@@ -377,12 +374,38 @@ AllScenarios()
 
 INSTANTIATE_TEST_SUITE_P(KernelsSplatsBeams, PointBasedDRRUnbiased, testing::ValuesIn(AllScenarios()));
 
+TEST(PointBasedDRRStandardError, PredictsTheSpreadOfManySeedsToFivePercent)
+{
+  // 768 cheap renders: the pooled ratio of observed to predicted variance is known to 5 sigma = 5 sqrt(2 / (767 P)),
+  // about 4% here, so a standard-error formula off by 5% in variance fails.
+  const Scenario     scenario{ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false };
+  const auto         volume = MakePhantom<HUVolumeType>(false);
+  auto               geometry = MakeGeometry(scenario.projection, 8, 6, 7.0, 8.0);
+  ReferenceBuilder   builder(scenario, 8, 6, 7.0, 8.0);
+  const unsigned int seeds = 768;
+  const auto         stats =
+    RenderSeeds(volume.GetPointer(), scenario, builder, geometry, WeightingEnum::Unbiased, 20000, seeds);
+  double observed = 0.0, predicted = 0.0;
+  size_t pixels = 0;
+  for (size_t p = 0; p < stats.Mean.size(); ++p)
+  {
+    if (stats.Mean[p] > 0.0)
+    {
+      observed += stats.Variance[p];
+      predicted += stats.PredictedVariance[p];
+      ++pixels;
+    }
+  }
+  ASSERT_GT(pixels, 30u);
+  EXPECT_NEAR(observed / predicted, 1.0, zBound * std::sqrt(2.0 / ((seeds - 1.0) * pixels)));
+}
+
 TEST(PointBasedDRRPaperCount, PerspectiveBiasIsMeasuredAndMatchesTheMagnification)
 {
   // The paper counts every point with weight 1. In perspective a point at depth z, landing at (u, v), stands for
   // 1 / w = (z / SID)^2 SID / R of what it should: the count underestimates by that factor, which across this
   // phantom ranges over the values of 1 / w at its corners.
-  const Scenario scenario{ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, false, false };
+  const Scenario     scenario{ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, false, false };
   const unsigned int cols = 8, rows = 6;
   const auto         volume = MakePhantom<HUVolumeType>(false);
   ReferenceBuilder   builder(scenario, cols, rows, 7.0, 8.0);
@@ -424,8 +447,8 @@ TEST(PointBasedDRRPaperCount, PerspectiveBiasIsMeasuredAndMatchesTheMagnificatio
     highest = std::max(highest, inverseWeight);
   }
   const double ratio = countedSum / referenceSum;
-  std::cout << "paper count / exact, image sum: " << ratio << " (1/w over the phantom: " << lowest << " .. "
-            << highest << "); unbiased / exact: " << weightedSum / referenceSum << std::endl;
+  std::cout << "paper count / exact, image sum: " << ratio << " (1/w over the phantom: " << lowest << " .. " << highest
+            << "); unbiased / exact: " << weightedSum / referenceSum << std::endl;
   RecordProperty("paper_count_bias", std::to_string(ratio - 1.0));
   EXPECT_GT(ratio, lowest);
   EXPECT_LT(ratio, highest);
