@@ -1,0 +1,12 @@
+# Runs EXE INPUT OUTPUT if INPUT exists; otherwise prints SKIPPED (the test's SKIP_REGULAR_EXPRESSION).
+if(NOT EXISTS "${INPUT}")
+  message("SKIPPED: ${INPUT} is absent (shared real CT data is not on this machine)")
+  return()
+endif()
+execute_process(COMMAND "${EXE}" "${INPUT}" "${OUTPUT}" RESULT_VARIABLE result)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "${EXE} failed with ${result}")
+endif()
+if(NOT EXISTS "${OUTPUT}")
+  message(FATAL_ERROR "${EXE} wrote no ${OUTPUT}")
+endif()

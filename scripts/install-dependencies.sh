@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs the Debian packages PointBasedDRR needs to build, test and run its demo (as root, Debian bookworm).
+set -euo pipefail
+packages=(build-essential cmake libinsighttoolkit5-dev libgdcm-dev libgtest-dev libbenchmark-dev invesalius-examples)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "Installing: ${missing[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
