@@ -131,9 +131,11 @@ protected:
   DRRPointProjection
   MakeProjection();
 
-  /** Converts a line-integral image to the output mode and writes it into output number index. */
+  /** Converts a line-integral image to the output mode and writes it into output 0. With a standard-error image,
+   * also writes output 1: the standard error of the output values, carried through the output mode by the delta
+   * method (times exp(-L) for transmission; times levels per unit of L inside the gray window, 0 where clamped). */
   void
-  WriteOutput(const std::vector<double> & lineIntegral, unsigned int index, bool applyOutputMode);
+  WriteOutputs(const std::vector<double> & lineIntegral, const std::vector<double> * standardError = nullptr);
 
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
@@ -141,6 +143,8 @@ protected:
 private:
   void
   BuildAttenuationVolume();
+  OutputPixelType *
+  AllocateOutput(unsigned int index, size_t numberOfPixels);
 
   typename GeometryType::Pointer         m_Geometry;
   typename TransformType::ConstPointer   m_Transform;

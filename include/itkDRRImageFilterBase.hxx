@@ -205,10 +205,16 @@ DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
     return static_cast<float>(attenuation);
   };
 
+  // Integer-valued input (CT in HU, whatever the pixel type): one level per input value, mu from a look-up table of
+  // the values present. Truly continuous input is left to the sampler's binning.
+  const bool integral = std::numeric_limits<InputPixelType>::is_integer ||
+                        std::all_of(values, values + numberOfVoxels, [](InputPixelType value) {
+                          return std::isfinite(static_cast<double>(value)) &&
+                                 static_cast<double>(value) == std::floor(static_cast<double>(value));
+                        });
   bool levelsBuilt = false;
-  if (std::numeric_limits<InputPixelType>::is_integer)
+  if (integral)
   {
-    // Integer input (CT in HU): one level per input value, mu from a look-up table of the values present.
     const auto   range = std::minmax_element(values, values + numberOfVoxels);
     const double lowest = static_cast<double>(*range.first);
     const double span = static_cast<double>(*range.second) - lowest;
@@ -307,23 +313,13 @@ DRRImageFilterBase<TInputImage, TOutputImage>::MakeProjection()
 
 template <typename TInputImage, typename TOutputImage>
 void
-DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutput(const std::vector<double> & lineIntegral,
-                                                           unsigned int                index,
-                                                           bool                        applyOutputMode)
+DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<double> & lineIntegral,
+                                                            const std::vector<double> * standardError)
 {
-  OutputImageType * output = this->GetOutput(index);
-  output->SetBufferedRegion(output->GetRequestedRegion());
-  output->Allocate();
-  if (output->GetBufferedRegion().GetNumberOfPixels() != lineIntegral.size())
-  {
-    itkExceptionMacro("internal error: projection of " << lineIntegral.size() << " pixels for an output of "
-                                                       << output->GetBufferedRegion().GetNumberOfPixels());
-  }
-  const OutputModeEnum mode = applyOutputMode ? m_OutputMode : OutputModeEnum::LineIntegral;
-  const bool           gray = mode == OutputModeEnum::Gray8 || mode == OutputModeEnum::Gray16;
+  const bool gray = m_OutputMode == OutputModeEnum::Gray8 || m_OutputMode == OutputModeEnum::Gray16;
   if (!gray && std::numeric_limits<OutputPixelType>::is_integer)
   {
-    itkExceptionMacro("an integer output pixel type holds only the Gray8 or Gray16 output modes, not " << mode);
+    itkExceptionMacro("an integer output pixel type holds only the Gray8 or Gray16 output modes, not " << m_OutputMode);
   }
   double low = m_WindowLevel - 0.5 * m_WindowWidth;
   double width = m_WindowWidth;
@@ -333,22 +329,49 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutput(const std::vector<dou
     low = *range.first;
     width = std::max(*range.second - *range.first, std::numeric_limits<double>::min());
   }
-  const double      grayMaximum = mode == OutputModeEnum::Gray8 ? 255.0 : 65535.0;
-  OutputPixelType * buffer = output->GetBufferPointer();
+  const double grayMaximum = m_OutputMode == OutputModeEnum::Gray8 ? 255.0 : 65535.0;
+
+  OutputPixelType * values = this->AllocateOutput(0, lineIntegral.size());
+  OutputPixelType * errors = standardError ? this->AllocateOutput(1, lineIntegral.size()) : nullptr;
   for (size_t p = 0; p < lineIntegral.size(); ++p)
   {
     const double value = lineIntegral[p];
     double       converted = value;
-    if (mode == OutputModeEnum::Transmission)
+    double       slope = 1.0; // d(output) / d(line integral), for the delta method
+    if (m_OutputMode == OutputModeEnum::Transmission)
     {
       converted = std::exp(-value);
+      slope = converted;
     }
     else if (gray)
     {
-      converted = std::floor(std::min(1.0, std::max(0.0, (value - low) / width)) * grayMaximum + 0.5);
+      const double position = (value - low) / width;
+      converted = std::floor(std::min(1.0, std::max(0.0, position)) * grayMaximum + 0.5);
+      slope = position > 0.0 && position < 1.0 ? grayMaximum / width : 0.0;
     }
-    buffer[p] = static_cast<OutputPixelType>(converted);
+    values[p] = static_cast<OutputPixelType>(converted);
+    if (errors)
+    {
+      const double error = slope * (*standardError)[p];
+      errors[p] = static_cast<OutputPixelType>(gray ? std::min(grayMaximum, std::floor(error + 0.5)) : error);
+    }
   }
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+DRRImageFilterBase<TInputImage, TOutputImage>::AllocateOutput(unsigned int index, size_t numberOfPixels)
+  -> OutputPixelType *
+{
+  OutputImageType * output = this->GetOutput(index);
+  output->SetBufferedRegion(output->GetRequestedRegion());
+  output->Allocate();
+  if (output->GetBufferedRegion().GetNumberOfPixels() != numberOfPixels)
+  {
+    itkExceptionMacro("internal error: projection of " << numberOfPixels << " pixels for an output of "
+                                                       << output->GetBufferedRegion().GetNumberOfPixels());
+  }
+  return output->GetBufferPointer();
 }
 
 template <typename TInputImage, typename TOutputImage>

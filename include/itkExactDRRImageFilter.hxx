@@ -32,7 +32,7 @@ ExactDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
   const DRRExactRayIntegrator integrator(*this->GetAttenuationVolume(), m_ReconstructionKernel);
   const std::vector<double>   image =
     integrator.RenderProjection(projection, m_RaysPerPixelSide, this->GetMultiThreader(), this);
-  this->WriteOutput(image, 0, true);
+  this->WriteOutputs(image);
   this->UpdateProgress(1.0f);
 }
 

@@ -95,7 +95,8 @@ public:
   itkSetObjectMacro(Sampler, SamplerType);
   itkGetModifiableObjectMacro(Sampler, SamplerType);
 
-  /** Per-pixel standard error of the line-integral estimate (line-integral units, whatever the output mode). */
+  /** Per-pixel standard error of the estimate, in the units of the output: for line integrals the estimator's own
+   * standard error; for transmission and gray levels carried through the output mode by the delta method. */
   OutputImageType *
   GetStandardErrorOutput()
   {

@@ -82,8 +82,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
   }
   m_TotalMass = result.RoomMass;
   m_PointsOnDetector = result.PointsOnDetector;
-  this->WriteOutput(result.LineIntegral, 0, true);
-  this->WriteOutput(result.StandardError, 1, false);
+  this->WriteOutputs(result.LineIntegral, &result.StandardError);
   this->UpdateProgress(1.0f);
 }
 

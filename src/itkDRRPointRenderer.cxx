@@ -227,7 +227,8 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
     const double obliquity = projection.GetMaximumObliquity();
     const double largestAffordableWeight = std::ldexp(1.0, 42) / (N * sampler.GetMaximumWeight());
     const double depthCut = sid * std::sqrt(obliquity / largestAffordableWeight);
-    result.SourceNearVolume = nearest < depthCut;
+    // Only a volume whose depth range reaches into (0, depthCut) comes near the source; one wholly behind it does not.
+    result.SourceNearVolume = nearest < depthCut && farthest > 0.0;
     const double minimumDepth = std::max(depthCut, nearest);
     projection.SetMinimumDepth(result.SourceNearVolume ? depthCut : 0.0);
     result.MinimumDepth = result.SourceNearVolume ? depthCut : 0.0;
