@@ -103,6 +103,11 @@ public:
     return this->GetOutput(1);
   }
 
+  /** Builds the attenuation volume and the sampler's tables now, if the input, transfer function or sampler changed
+   * since they were built (Update() does it otherwise): preprocessing once, before many renders. */
+  void
+  PrepareSampling();
+
   /** Statistics of the last render. */
   itkGetConstMacro(TotalMass, double);
   itkGetConstMacro(PointsOnDetector, uint64_t);

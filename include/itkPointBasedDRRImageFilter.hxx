@@ -45,12 +45,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetMTime() const
 
 template <typename TInputImage, typename TOutputImage>
 void
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
 {
-  if (m_NumberOfSamples == 0)
-  {
-    itkExceptionMacro("the number of samples must be at least 1");
-  }
   if (!m_Sampler)
   {
     itkExceptionMacro("no sampler set");
@@ -63,6 +59,18 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
     m_SamplerVolumeTime = volume->GetMTime();
     m_SamplerTime = m_Sampler->GetMTime();
   }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
+{
+  if (m_NumberOfSamples == 0)
+  {
+    itkExceptionMacro("the number of samples must be at least 1");
+  }
+  this->PrepareSampling();
+  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
 
   DRRPointRenderer::Settings settings;
   settings.NumberOfSamples = m_NumberOfSamples;

@@ -1,0 +1,534 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "pbdrrApplication.h"
+#include "pbdrrVolumeLoader.h"
+
+#include "itkCommand.h"
+#include "itkExactDRRImageFilter.h"
+#include "itkImageFileWriter.h"
+#include "itkPointBasedDRRImageFilter.h"
+#include "itkVersion.h"
+
+#include <cerrno>
+#include <cstring>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+
+namespace pbdrr
+{
+namespace
+{
+using ProjectionType = itk::Image<float, 2>;
+using GrayType = itk::Image<unsigned char, 2>;
+using Gray16Type = itk::Image<unsigned short, 2>;
+using BaseFilterType = itk::DRRImageFilterBase<VolumeType, ProjectionType>;
+using OutputModeEnum = itk::PointBasedDRREnums::OutputMode;
+using Clock = std::chrono::steady_clock;
+
+double
+SecondsSince(Clock::time_point start)
+{
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string
+Lowercase(std::string s)
+{
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool
+EndsWith(const std::string & s, const std::string & suffix)
+{
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/** The output kind an extension stands for: "png" (gray levels) or "float". Throws for unknown extensions. */
+std::string
+OutputKind(const std::string & path)
+{
+  const std::string lower = Lowercase(path);
+  for (const char * e : { ".mha", ".mhd", ".nrrd", ".nhdr", ".nii", ".nii.gz", ".tif", ".tiff" })
+  {
+    if (EndsWith(lower, e))
+    {
+      return "float";
+    }
+  }
+  if (EndsWith(lower, ".png"))
+  {
+    return "png";
+  }
+  throw UsageError("output " + path + ": unknown extension (use .mha, .nrrd, .nii, .nii.gz, .tif or .png)");
+}
+
+/** Checks up front that a file can be created at path, so a long render does not end in a write error. */
+void
+CheckWritable(const std::string & path)
+{
+  FILE * file = std::fopen(path.c_str(), "ab");
+  if (!file)
+  {
+    throw std::runtime_error("cannot write output " + path + ": " + std::strerror(errno));
+  }
+  std::fclose(file);
+}
+
+itk::DRRProjectionGeometry::Pointer
+MakeGeometry(const Options & options, const VolumeType * volume)
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetDetectorSize({ { 512, 512 } });
+  geometry->SetDetectorSpacing(itk::Vector<double, 2>(1.2));
+  // Default isocenter: the centre of the volume's bounding box (voxel centres).
+  const auto                      region = volume->GetLargestPossibleRegion();
+  itk::ContinuousIndex<double, 3> centreIndex;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    centreIndex[a] = region.GetIndex()[a] + (region.GetSize()[a] - 1.0) / 2.0;
+  }
+  itk::Point<double, 3> centre;
+  volume->TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
+  geometry->SetIsocenter(centre);
+  if (!options.geometryFile.empty())
+  {
+    geometry->ReadGeometryFile(options.geometryFile);
+  }
+  auto point = [](const std::array<double, 3> & a) {
+    itk::Point<double, 3> p;
+    std::copy(a.begin(), a.end(), p.Begin());
+    return p;
+  };
+  auto vector3 = [](const std::array<double, 3> & a) {
+    itk::Vector<double, 3> v;
+    std::copy(a.begin(), a.end(), v.Begin());
+    return v;
+  };
+  auto vector2 = [](const std::array<double, 2> & a) {
+    itk::Vector<double, 2> v;
+    v[0] = a[0];
+    v[1] = a[1];
+    return v;
+  };
+  if (options.parallel)
+  {
+    geometry->SetProjection(itk::PointBasedDRREnums::Projection::Parallel);
+  }
+  if (options.sad)
+  {
+    geometry->SetSourceToIsocenterDistance(*options.sad);
+  }
+  if (options.sid)
+  {
+    geometry->SetSourceToDetectorDistance(*options.sid);
+  }
+  if (options.gantryDegrees)
+  {
+    geometry->SetGantryAngleInDegrees(*options.gantryDegrees);
+  }
+  if (options.normal)
+  {
+    geometry->SetNormal(vector3(*options.normal));
+  }
+  if (options.viewUp)
+  {
+    geometry->SetViewUp(vector3(*options.viewUp));
+  }
+  if (options.isocenter)
+  {
+    geometry->SetIsocenter(point(*options.isocenter));
+  }
+  if (options.detectorSize)
+  {
+    geometry->SetDetectorSize({ { static_cast<itk::SizeValueType>((*options.detectorSize)[0]),
+                                  static_cast<itk::SizeValueType>((*options.detectorSize)[1]) } });
+  }
+  if (options.detectorSpacing)
+  {
+    geometry->SetDetectorSpacing(vector2(*options.detectorSpacing));
+  }
+  if (options.detectorOffset)
+  {
+    geometry->SetDetectorOffset(vector2(*options.detectorOffset));
+  }
+  geometry->VerifyGeometry();
+  return geometry;
+}
+
+itk::DRRTransferFunction::Pointer
+MakeTransferFunction(const Options & options)
+{
+  auto transfer = itk::DRRTransferFunction::New();
+  if (options.inputUnits == "mu")
+  {
+    transfer->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+  }
+  if (options.energyKeV)
+  {
+    transfer->SetEffectiveEnergyInKeV(*options.energyKeV);
+  }
+  if (options.muWater)
+  {
+    transfer->SetMuWaterPerMillimeter(*options.muWater);
+  }
+  if (options.airThreshold)
+  {
+    transfer->SetAirThreshold(*options.airThreshold);
+  }
+  return transfer;
+}
+
+/** A progress bar on a terminal, shown once a render has run for half a second. */
+class ProgressBar
+{
+public:
+  explicit ProgressBar(bool enabled) : m_Enabled(enabled && isatty(fileno(stderr))), m_Start(Clock::now()) {}
+  ~ProgressBar() { this->Finish(); }
+
+  void
+  Show(float progress)
+  {
+    if (!m_Enabled || SecondsSince(m_Start) < 0.5)
+    {
+      return;
+    }
+    const int width = 40;
+    const int filled = static_cast<int>(progress * width + 0.5f);
+    std::fprintf(stderr,
+                 "\r[%s%s] %3d%%",
+                 std::string(filled, '=').c_str(),
+                 std::string(width - filled, ' ').c_str(),
+                 static_cast<int>(progress * 100.0f + 0.5f));
+    std::fflush(stderr);
+    m_Shown = true;
+  }
+
+  void
+  Finish()
+  {
+    if (m_Shown)
+    {
+      std::fprintf(stderr, "\r%60s\r", "");
+      std::fflush(stderr);
+      m_Shown = false;
+    }
+  }
+
+private:
+  bool              m_Enabled;
+  bool              m_Shown{ false };
+  Clock::time_point m_Start;
+};
+
+std::string
+Describe(const VolumeType * volume)
+{
+  const auto         region = volume->GetLargestPossibleRegion();
+  const float *      values = volume->GetBufferPointer();
+  const auto         range = std::minmax_element(values, values + region.GetNumberOfPixels());
+  std::ostringstream s;
+  s << "size " << region.GetSize()[0] << " x " << region.GetSize()[1] << " x " << region.GetSize()[2] << ", spacing "
+    << volume->GetSpacing()[0] << " x " << volume->GetSpacing()[1] << " x " << volume->GetSpacing()[2] << " mm, origin "
+    << volume->GetOrigin() << " mm, direction [";
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    s << (r ? "; " : "") << volume->GetDirection()[r][0] << " " << volume->GetDirection()[r][1] << " "
+      << volume->GetDirection()[r][2];
+  }
+  s << "], values " << *range.first << " .. " << *range.second;
+  return s.str();
+}
+
+std::string
+DescribeGeometry(const itk::DRRProjectionGeometry * g)
+{
+  std::ostringstream s;
+  const bool         perspective = g->GetProjection() == itk::PointBasedDRREnums::Projection::Perspective;
+  s << (perspective ? "perspective" : "parallel") << ", SAD " << g->GetSourceToIsocenterDistance() << " mm, SID "
+    << g->GetSourceToDetectorDistance() << " mm, isocenter " << g->GetIsocenter() << ", nrm " << g->GetNormal()
+    << ", vup " << g->GetViewUp() << ", detector " << g->GetDetectorSize()[0] << " cols x " << g->GetDetectorSize()[1]
+    << " rows at " << g->GetDetectorSpacing()[0] << " x " << g->GetDetectorSpacing()[1] << " mm, offset "
+    << g->GetDetectorOffset()[0] << " " << g->GetDetectorOffset()[1] << " mm; source " << g->GetSourcePosition()
+    << ", columns along " << g->GetColumnDirection() << ", rows along " << g->GetRowDirection();
+  return s.str();
+}
+
+/** Gray-level window: the user's, or the 0.5 and 99.5 percentiles of the line integrals. */
+void
+ChooseWindow(const Options & options, const ProjectionType * image, double & level, double & width)
+{
+  if (options.window)
+  {
+    level = (*options.window)[0];
+    width = (*options.window)[1];
+    if (!(width > 0.0))
+    {
+      throw UsageError("--window width must be positive, got " + std::to_string(width));
+    }
+    return;
+  }
+  std::vector<float> values(image->GetBufferPointer(),
+                            image->GetBufferPointer() + image->GetBufferedRegion().GetNumberOfPixels());
+  std::sort(values.begin(), values.end());
+  const double low = values[static_cast<size_t>(0.005 * (values.size() - 1))];
+  const double high = values[static_cast<size_t>(0.995 * (values.size() - 1))];
+  width = std::max(high - low, 1e-6);
+  level = low + 0.5 * width;
+}
+
+template <typename TGray>
+void
+WriteGray(const ProjectionType * lineIntegral, double level, double width, double maximum, const std::string & path)
+{
+  auto gray = TGray::New();
+  gray->CopyInformation(lineIntegral);
+  gray->SetRegions(lineIntegral->GetLargestPossibleRegion());
+  gray->Allocate();
+  const float * in = lineIntegral->GetBufferPointer();
+  auto *        out = gray->GetBufferPointer();
+  const double  low = level - 0.5 * width;
+  for (size_t p = 0; p < gray->GetBufferedRegion().GetNumberOfPixels(); ++p)
+  {
+    const double t = std::min(1.0, std::max(0.0, (in[p] - low) / width));
+    out[p] = static_cast<typename TGray::PixelType>(std::floor(t * maximum + 0.5));
+  }
+  itk::WriteImage(gray, path);
+}
+
+/** Writes the line-integral image (and its standard error) as the output path and mode say. */
+void
+WriteOutputs(const Options &            options,
+             const ProjectionType *     lineIntegral,
+             const ProjectionType *     standardError,
+             std::vector<std::string> & notes)
+{
+  const std::string kind = OutputKind(options.output);
+  std::string       mode = options.outputMode;
+  if (mode.empty())
+  {
+    mode = kind == "png" ? "gray8" : "line-integral";
+  }
+  if (kind == "png" && mode != "gray8" && mode != "gray16")
+  {
+    throw UsageError("a .png output holds gray levels: use --output-mode gray8 or gray16, or a float format (.mha)");
+  }
+  double level = 0.0, width = 1.0;
+  if (mode == "gray8" || mode == "gray16")
+  {
+    ChooseWindow(options, lineIntegral, level, width);
+    notes.push_back("gray window: level " + std::to_string(level) + ", width " + std::to_string(width) +
+                    " (line-integral units)");
+  }
+  const double maximum = mode == "gray8" ? 255.0 : 65535.0;
+  auto         write = [&](const ProjectionType * image, const std::string & path, bool isError) {
+    if (mode == "line-integral")
+    {
+      itk::WriteImage(image, path);
+      return;
+    }
+    auto converted = ProjectionType::New();
+    converted->CopyInformation(image);
+    converted->SetRegions(image->GetLargestPossibleRegion());
+    converted->Allocate();
+    const float * in = image->GetBufferPointer();
+    const float * l = lineIntegral->GetBufferPointer();
+    float *       out = converted->GetBufferPointer();
+    for (size_t p = 0; p < converted->GetBufferedRegion().GetNumberOfPixels(); ++p)
+    {
+      if (mode == "transmission")
+      {
+        // The standard error of exp(-L) by the delta method: exp(-L) * SE(L).
+        out[p] = static_cast<float>(isError ? std::exp(-l[p]) * in[p] : std::exp(-in[p]));
+      }
+      else
+      {
+        const double position = (l[p] - (level - 0.5 * width)) / width;
+        out[p] = static_cast<float>(isError ? (position > 0.0 && position < 1.0 ? in[p] * maximum / width : 0.0)
+                                                    : std::floor(std::min(1.0, std::max(0.0, position)) * maximum + 0.5));
+      }
+    }
+    itk::WriteImage(converted, path);
+  };
+  if (kind == "png")
+  {
+    if (mode == "gray8")
+    {
+      WriteGray<GrayType>(lineIntegral, level, width, maximum, options.output);
+    }
+    else
+    {
+      WriteGray<Gray16Type>(lineIntegral, level, width, maximum, options.output);
+    }
+  }
+  else
+  {
+    write(lineIntegral, options.output, false);
+  }
+  if (standardError)
+  {
+    if (OutputKind(options.standardErrorOutput) == "png")
+    {
+      throw UsageError("--stderr needs a float format (.mha, .nrrd, .nii, .tif), not .png");
+    }
+    write(standardError, options.standardErrorOutput, true);
+  }
+}
+} // namespace
+
+std::string
+VersionText()
+{
+  return "pbdrr (PointBasedDRR) 0.1.0, ITK " + std::string(itk::Version::GetITKVersion());
+}
+
+void
+Run(const Options & options)
+{
+  const bool                                  chatty = !options.quiet;
+  std::vector<std::string>                    notes;
+  std::vector<std::pair<std::string, double>> stages;
+  OutputKind(options.output); // refuse unknown extensions before any work
+  if (!options.standardErrorOutput.empty())
+  {
+    OutputKind(options.standardErrorOutput);
+    if (!options.exact.empty())
+    {
+      throw UsageError("--stderr: an exact render has no statistical error");
+    }
+  }
+  CheckWritable(options.output);
+  if (!options.standardErrorOutput.empty())
+  {
+    CheckWritable(options.standardErrorOutput);
+  }
+  if (options.threads > 0)
+  {
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
+  }
+
+  auto               start = Clock::now();
+  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID);
+  stages.emplace_back("load", SecondsSince(start));
+  for (const auto & note : loaded.Notes)
+  {
+    if (chatty)
+    {
+      std::cerr << "pbdrr: " << note << std::endl;
+    }
+  }
+  const auto geometry = MakeGeometry(options, loaded.Image);
+  if (options.verbose)
+  {
+    std::cerr << "pbdrr: input: " << loaded.Description << "\npbdrr: volume: " << Describe(loaded.Image)
+              << "\npbdrr: geometry: " << DescribeGeometry(geometry) << std::endl;
+  }
+
+  BaseFilterType::Pointer                                            filter;
+  itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::Pointer pointBased;
+  if (options.exact.empty())
+  {
+    pointBased = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::New();
+    pointBased->SetNumberOfSamples(options.samples);
+    pointBased->SetSeed(options.seed);
+    pointBased->SetReconstructionKernel(options.kernel == "tent" ? itk::PointBasedDRREnums::ReconstructionKernel::Tent
+                                                                 : itk::PointBasedDRREnums::ReconstructionKernel::Box);
+    pointBased->SetSplat(options.splat == "bilinear" ? itk::PointBasedDRREnums::Splat::Bilinear
+                                                     : itk::PointBasedDRREnums::Splat::Nearest);
+    pointBased->SetPointWeighting(options.paperCount ? itk::PointBasedDRREnums::PointWeighting::PaperCount
+                                                     : itk::PointBasedDRREnums::PointWeighting::Unbiased);
+    filter = pointBased.GetPointer();
+  }
+  else
+  {
+    auto exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
+    exact->SetReconstructionKernel(options.exact == "trilinear" ? itk::PointBasedDRREnums::ReconstructionKernel::Tent
+                                                                : itk::PointBasedDRREnums::ReconstructionKernel::Box);
+    exact->SetRaysPerPixelSide(options.raysPerSide);
+    filter = exact.GetPointer();
+  }
+  filter->SetInput(loaded.Image);
+  filter->SetGeometry(geometry);
+  filter->SetTransferFunction(MakeTransferFunction(options));
+  if (options.threads > 0)
+  {
+    filter->SetNumberOfWorkUnits(options.threads);
+  }
+
+  start = Clock::now();
+  if (pointBased)
+  {
+    pointBased->PrepareSampling();
+  }
+  else
+  {
+    filter->GetAttenuationVolume();
+  }
+  stages.emplace_back("preprocess", SecondsSince(start));
+
+  ProgressBar progress(chatty);
+  auto        command = itk::CStyleCommand::New();
+  command->SetClientData(&progress);
+  command->SetConstCallback([](const itk::Object * caller, const itk::EventObject &, void * data) {
+    static_cast<ProgressBar *>(data)->Show(static_cast<const itk::ProcessObject *>(caller)->GetProgress());
+  });
+  filter->AddObserver(itk::ProgressEvent(), command);
+  start = Clock::now();
+  filter->Update();
+  progress.Finish();
+  stages.emplace_back(options.exact.empty() ? "sample+project" : "exact projection", SecondsSince(start));
+
+  start = Clock::now();
+  WriteOutputs(options,
+               filter->GetOutput(),
+               pointBased && !options.standardErrorOutput.empty() ? pointBased->GetStandardErrorOutput() : nullptr,
+               notes);
+  stages.emplace_back("write", SecondsSince(start));
+
+  if (options.verbose)
+  {
+    if (pointBased)
+    {
+      std::cerr << "pbdrr: samples " << options.samples << ", seed " << options.seed << ", kernel " << options.kernel
+                << ", splat " << options.splat << ", attenuation mass M " << pointBased->GetTotalMass()
+                << " mm^2, points on the detector " << pointBased->GetPointsOnDetector() << std::endl;
+    }
+    for (const auto & note : notes)
+    {
+      std::cerr << "pbdrr: " << note << std::endl;
+    }
+    std::cerr << "pbdrr: time:";
+    for (const auto & stage : stages)
+    {
+      std::cerr << " " << stage.first << " " << std::fixed << std::setprecision(3) << stage.second << " s;";
+    }
+    std::cerr << std::endl;
+  }
+  if (chatty)
+  {
+    std::cerr << "pbdrr: wrote " << options.output
+              << (options.standardErrorOutput.empty() ? "" : " and " + options.standardErrorOutput) << std::endl;
+  }
+}
+} // namespace pbdrr

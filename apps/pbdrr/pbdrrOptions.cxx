@@ -1,0 +1,304 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "pbdrrOptions.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <map>
+
+namespace pbdrr
+{
+double
+ParseNumber(const std::string & text, const std::string & flag)
+{
+  const char * begin = text.c_str();
+  char *       end = nullptr;
+  errno = 0;
+  const double value = std::strtod(begin, &end);
+  if (text.empty() || end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(value))
+  {
+    throw UsageError(flag + " expects a finite number, got '" + text + "'");
+  }
+  return value;
+}
+
+uint64_t
+ParseSampleCount(const std::string & text)
+{
+  std::string number = text;
+  double      multiplier = 1.0;
+  if (!number.empty())
+  {
+    const char                   suffix = number.back();
+    const std::map<char, double> suffixes = { { 'k', 1e3 }, { 'K', 1e3 }, { 'm', 1e6 },
+                                              { 'M', 1e6 }, { 'g', 1e9 }, { 'G', 1e9 } };
+    if (suffixes.count(suffix))
+    {
+      multiplier = suffixes.at(suffix);
+      number.pop_back();
+    }
+  }
+  const double value = ParseNumber(number, "--samples") * multiplier;
+  if (!(value >= 1.0) || value > std::ldexp(1.0, 40) || value != std::floor(value))
+  {
+    throw UsageError("--samples expects a whole number from 1 to 2^40 (e.g. 1e7, 16M), got '" + text + "'");
+  }
+  return static_cast<uint64_t>(value);
+}
+
+namespace
+{
+template <size_t N>
+std::array<double, N>
+Numbers(const std::vector<std::string> & values, const std::string & flag)
+{
+  std::array<double, N> numbers;
+  for (size_t i = 0; i < N; ++i)
+  {
+    numbers[i] = ParseNumber(values[i], flag);
+  }
+  return numbers;
+}
+
+std::string
+OneOf(const std::string & value, const std::string & flag, const std::vector<std::string> & allowed)
+{
+  for (const auto & a : allowed)
+  {
+    if (value == a)
+    {
+      return value;
+    }
+  }
+  std::string list;
+  for (const auto & a : allowed)
+  {
+    list += (list.empty() ? "" : ", ") + a;
+  }
+  throw UsageError(flag + " expects one of " + list + ", got '" + value + "'");
+}
+
+unsigned
+WholeNumber(const std::string & value, const std::string & flag, double lowest, double highest)
+{
+  const double number = ParseNumber(value, flag);
+  if (number != std::floor(number) || number < lowest || number > highest)
+  {
+    throw UsageError(flag + " expects a whole number from " + std::to_string(static_cast<long long>(lowest)) + " to " +
+                     std::to_string(static_cast<long long>(highest)) + ", got '" + value + "'");
+  }
+  return static_cast<unsigned>(number);
+}
+} // namespace
+
+Options
+ParseCommandLine(const std::vector<std::string> & arguments)
+{
+  Options options;
+  using Handler = std::function<void(const std::vector<std::string> &)>;
+  struct Flag
+  {
+    size_t  count;
+    Handler handle;
+  };
+  const std::map<std::string, Flag> flags = {
+    { "-o", { 1, [&](const auto & v) { options.output = v[0]; } } },
+    { "--output", { 1, [&](const auto & v) { options.output = v[0]; } } },
+    { "--stderr", { 1, [&](const auto & v) { options.standardErrorOutput = v[0]; } } },
+    { "--geometry", { 1, [&](const auto & v) { options.geometryFile = v[0]; } } },
+    { "--series", { 1, [&](const auto & v) { options.seriesUID = v[0]; } } },
+    { "--sad", { 1, [&](const auto & v) { options.sad = ParseNumber(v[0], "--sad"); } } },
+    { "--sid", { 1, [&](const auto & v) { options.sid = ParseNumber(v[0], "--sid"); } } },
+    { "--gantry", { 1, [&](const auto & v) { options.gantryDegrees = ParseNumber(v[0], "--gantry"); } } },
+    { "--isocenter", { 3, [&](const auto & v) { options.isocenter = Numbers<3>(v, "--isocenter"); } } },
+    { "--nrm", { 3, [&](const auto & v) { options.normal = Numbers<3>(v, "--nrm"); } } },
+    { "--vup", { 3, [&](const auto & v) { options.viewUp = Numbers<3>(v, "--vup"); } } },
+    { "--size",
+      { 2,
+        [&](const auto & v) {
+          options.detectorSize = std::array<double, 2>{ static_cast<double>(WholeNumber(v[0], "--size", 1, 16384)),
+                                                        static_cast<double>(WholeNumber(v[1], "--size", 1, 16384)) };
+        } } },
+    { "--spacing", { 2, [&](const auto & v) { options.detectorSpacing = Numbers<2>(v, "--spacing"); } } },
+    { "--offset", { 2, [&](const auto & v) { options.detectorOffset = Numbers<2>(v, "--offset"); } } },
+    { "--parallel", { 0, [&](const auto &) { options.parallel = true; } } },
+    { "--samples", { 1, [&](const auto & v) { options.samples = ParseSampleCount(v[0]); } } },
+    { "--sampler", { 1, [&](const auto & v) { options.sampler = OneOf(v[0], "--sampler", { "level-alias" }); } } },
+    { "--kernel",
+      { 1,
+        [&](const auto & v) {
+          options.kernel = OneOf(v[0], "--kernel", { "box", "tent" });
+        } } },
+    { "--splat",
+      { 1,
+        [&](const auto & v) {
+          options.splat = OneOf(v[0], "--splat", { "nearest", "bilinear" });
+        } } },
+    { "--seed",
+      { 1,
+        [&](const auto & v) {
+          const double              s = ParseNumber(v[0], "--seed");
+          if (s < 0 || s != std::floor(s) || s > 9007199254740992.0)
+          {
+            throw UsageError("--seed expects a whole number from 0 to 2^53, got '" + v[0] + "'");
+          }
+          options.seed = static_cast<uint64_t>(s);
+        } } },
+    { "--threads", { 1, [&](const auto & v) { options.threads = WholeNumber(v[0], "--threads", 1, 1024); } } },
+    { "--paper-count", { 0, [&](const auto &) { options.paperCount = true; } } },
+    { "--input-units",
+      { 1,
+        [&](const auto & v) {
+          options.inputUnits = OneOf(v[0], "--input-units", { "hu", "mu" });
+        } } },
+    { "--energy", { 1, [&](const auto & v) { options.energyKeV = ParseNumber(v[0], "--energy"); } } },
+    { "--mu-water", { 1, [&](const auto & v) { options.muWater = ParseNumber(v[0], "--mu-water"); } } },
+    { "--air-threshold", { 1, [&](const auto & v) { options.airThreshold = ParseNumber(v[0], "--air-threshold"); } } },
+    { "--output-mode",
+      { 1,
+        [&](const auto & v) {
+          options.outputMode = OneOf(v[0], "--output-mode", { "line-integral", "transmission", "gray8", "gray16" });
+        } } },
+    { "--window", { 2, [&](const auto & v) { options.window = Numbers<2>(v, "--window"); } } },
+    { "--exact",
+      { 1,
+        [&](const auto & v) {
+          options.exact = OneOf(v[0], "--exact", { "siddon", "trilinear" });
+        } } },
+    { "--ss", { 1, [&](const auto & v) { options.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } } },
+    { "--quiet", { 0, [&](const auto &) { options.quiet = true; } } },
+    { "-q", { 0, [&](const auto &) { options.quiet = true; } } },
+    { "--verbose", { 0, [&](const auto &) { options.verbose = true; } } },
+    { "-v", { 0, [&](const auto &) { options.verbose = true; } } },
+    { "--help", { 0, [&](const auto &) { options.help = true; } } },
+    { "-h", { 0, [&](const auto &) { options.help = true; } } },
+    { "--version", { 0, [&](const auto &) { options.version = true; } } },
+  };
+
+  std::vector<std::string> positional;
+  for (size_t i = 0; i < arguments.size(); ++i)
+  {
+    const std::string & argument = arguments[i];
+    if (argument.size() > 1 && argument[0] == '-')
+    {
+      const auto flag = flags.find(argument);
+      if (flag == flags.end())
+      {
+        throw UsageError("unknown option '" + argument + "' (see pbdrr --help)");
+      }
+      if (i + flag->second.count >= arguments.size() && flag->second.count > 0)
+      {
+        throw UsageError(argument + " expects " + std::to_string(flag->second.count) + " value(s)");
+      }
+      std::vector<std::string> values(arguments.begin() + i + 1, arguments.begin() + i + 1 + flag->second.count);
+      flag->second.handle(values);
+      i += flag->second.count;
+    }
+    else
+    {
+      positional.push_back(argument);
+    }
+  }
+  if (options.help || options.version)
+  {
+    return options;
+  }
+  if (positional.size() != 1)
+  {
+    throw UsageError(positional.empty() ? "no input given (pbdrr INPUT -o OUTPUT; see pbdrr --help)"
+                                        : "one input expected, got " + std::to_string(positional.size()) + ": '" +
+                                            positional[0] + "', '" + positional[1] + "', ...");
+  }
+  options.input = positional[0];
+  if (options.output.empty())
+  {
+    throw UsageError("no output given: -o OUTPUT (.mha, .nrrd, .nii, .nii.gz, .tif: float; .png: 8-bit gray)");
+  }
+  if (options.energyKeV && options.muWater)
+  {
+    throw UsageError("--energy and --mu-water both set mu_water: give one");
+  }
+  if (!options.exact.empty() && options.paperCount)
+  {
+    throw UsageError("--paper-count applies to point sampling, not to --exact");
+  }
+  return options;
+}
+
+std::string
+HelpText()
+{
+  return R"(pbdrr - digitally reconstructed radiographs by unbiased Monte Carlo point sampling (PointBasedDRR)
+
+Usage: pbdrr INPUT -o OUTPUT [options]
+
+INPUT   a DICOM series directory (the largest series, or --series UID), or a volume ITK reads
+        (.mha, .nrrd, .nii, .nii.gz, ...). Voxels are HU unless --input-units mu.
+OUTPUT  the extension decides: .mha .nrrd .nii .nii.gz .tif hold float values (line integrals by default);
+        .png holds 8-bit gray levels (window from the 0.5 and 99.5 percentiles unless --window), bone bright.
+
+Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = the CT's LPS frame):
+  --geometry FILE        key value lines: projection, sad, sid, gantry, nrm, vup, isocenter, cols, rows,
+                         spacing, offset (flags below override the file)
+  --sad MM               source to isocenter distance (default 1000)
+  --sid MM               source to detector distance (default 1500)
+  --gantry DEG           gantry angle: 0 puts the source on +x (left), 90 on -y (anterior: an AP view)
+  --isocenter X Y Z      mm (default: the centre of the volume)
+  --nrm X Y Z            unit vector from isocenter to source (overrides --gantry)
+  --vup X Y Z            view up: row 0 is at the +vup edge (default 0 0 1)
+  --size COLS ROWS       detector pixels: columns first, then rows (default 512 512)
+  --spacing DU DV        pixel size in mm along columns and rows (default 1.2 1.2)
+  --offset OU OV         detector centre offset in mm along columns and rows (default 0 0)
+  --parallel             parallel beam along the normal instead of perspective
+
+Rendering:
+  --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default 10M)
+  --sampler NAME         level-alias (exact importance sampling by attenuation level; default)
+  --kernel box|tent      voxel model: box (piecewise constant, default) or tent (trilinear)
+  --splat nearest|bilinear
+  --seed S               random seed (default 0): the same seed gives the same image on any thread count
+  --threads T            worker threads (default: all cores)
+  --paper-count          count points unweighted, as the paper does (biased in perspective)
+  --exact siddon|trilinear   render with the exact projector instead (box or tent model), no noise
+  --ss K                 with --exact: K x K rays per pixel (default 1)
+
+Physics:
+  --input-units hu|mu    voxels in Hounsfield units (default) or linear attenuation in 1/mm
+  --energy KEV           effective energy for mu_water (NIST water table; default 60 keV: 0.02059 /mm)
+  --mu-water PER_MM      mu of water directly
+  --air-threshold HU     voxels below this are air (never sampled)
+  --output-mode line-integral|transmission|gray8|gray16
+  --window LEVEL WIDTH   gray window in line-integral units (default: percentiles)
+
+Other outputs and messages:
+  --stderr FILE          per-pixel standard error of the estimate (same units as OUTPUT)
+  --quiet, -q            no progress bar or notes      --verbose, -v   geometry, volume, mass, stage times
+  --help, -h             this text                     --version       the version
+
+Examples:
+  pbdrr ct_dir/ -o ap.png --gantry 90                       AP radiograph of a DICOM series, 10M samples
+  pbdrr ct.nii.gz -o lat.mha --gantry 0 --samples 1e8       lateral view, line integrals, 10^8 samples
+  pbdrr ct.mha -o drr.mha --stderr drr_se.mha --seed 7      with its standard-error image
+  pbdrr ct.mha -o ref.mha --exact siddon --ss 4             noise-free Siddon DRR, 16 rays per pixel
+  pbdrr ct.mha -o drr.png --geometry view.txt --size 256 256 --spacing 2.4 2.4
+  pbdrr mu.mha -o drr.tif --input-units mu --parallel --nrm 0 -1 0
+)";
+}
+} // namespace pbdrr

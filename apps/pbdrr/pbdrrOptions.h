@@ -1,0 +1,97 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef pbdrrOptions_h
+#define pbdrrOptions_h
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace pbdrr
+{
+/** A command-line error: printed as "pbdrr: error: <what>", exit code 2 (usage) or 1 (run time). */
+class UsageError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/** Everything the command line says. Geometry fields left empty keep the geometry file's value or the default. */
+struct Options
+{
+  std::string input;
+  std::string output;
+  std::string standardErrorOutput;
+  std::string geometryFile;
+  std::string seriesUID;
+
+  std::optional<double>                sad;
+  std::optional<double>                sid;
+  std::optional<double>                gantryDegrees;
+  std::optional<std::array<double, 3>> isocenter;
+  std::optional<std::array<double, 3>> normal;
+  std::optional<std::array<double, 3>> viewUp;
+  std::optional<std::array<double, 2>> detectorSize; // cols, rows
+  std::optional<std::array<double, 2>> detectorSpacing;
+  std::optional<std::array<double, 2>> detectorOffset;
+  bool                                 parallel{ false };
+
+  uint64_t    samples{ 10000000 };
+  std::string sampler{ "level-alias" };
+  std::string kernel{ "box" };
+  std::string splat{ "nearest" };
+  uint64_t    seed{ 0 };
+  unsigned    threads{ 0 }; // 0: all
+  bool        paperCount{ false };
+
+  std::string                          inputUnits{ "hu" };
+  std::optional<double>                energyKeV;
+  std::optional<double>                muWater;
+  std::optional<double>                airThreshold;
+  std::string                          outputMode; // empty: from the output extension
+  std::optional<std::array<double, 2>> window;     // level, width (line-integral units)
+
+  std::string exact; // empty, "siddon" or "trilinear"
+  unsigned    raysPerSide{ 1 };
+
+  bool quiet{ false };
+  bool verbose{ false };
+  bool help{ false };
+  bool version{ false };
+};
+
+/** Parses argv; throws UsageError naming the flag and the bad value. */
+Options
+ParseCommandLine(const std::vector<std::string> & arguments);
+
+/** Number of samples: a whole number, scientific (1e7) or with a K/M/G suffix (16M = 16 000 000), 1 .. 2^40. */
+uint64_t
+ParseSampleCount(const std::string & text);
+
+/** A finite number, the whole token. */
+double
+ParseNumber(const std::string & text, const std::string & flag);
+
+std::string
+HelpText();
+} // namespace pbdrr
+
+#endif

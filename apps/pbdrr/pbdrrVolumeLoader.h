@@ -1,0 +1,46 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef pbdrrVolumeLoader_h
+#define pbdrrVolumeLoader_h
+
+#include "itkImage.h"
+
+#include <string>
+#include <vector>
+
+namespace pbdrr
+{
+using VolumeType = itk::Image<float, 3>;
+
+/** A volume read for rendering, with what the user should be told about it. */
+struct LoadedVolume
+{
+  VolumeType::Pointer      Image;
+  std::string              Description; // where it came from: file, or DICOM series and its slices
+  std::vector<std::string> Notes;       // e.g. "3 series in DIR; using ..."
+};
+
+/** Reads INPUT: a DICOM series directory (series discovery through GDCM; the largest series unless seriesUID) or
+ * any 3D scalar volume ITK reads. A DICOM series is checked before it is read: one orientation, slice positions
+ * along the slice normal (no gantry tilt), no missing slices and even spacing; each violation throws
+ * std::runtime_error with the reason, as does a missing path, a 2D, 4D or vector image. */
+LoadedVolume
+LoadVolume(const std::string & input, const std::string & seriesUID);
+} // namespace pbdrr
+
+#endif
