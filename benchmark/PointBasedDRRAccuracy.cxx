@@ -23,46 +23,19 @@
 // Geometry: SAD 1000 mm, SID 1500 mm, isocenter at the volume centre, square detector.
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkExactDRRImageFilter.h"
-#include "itkGDCMImageIO.h"
-#include "itkGDCMSeriesFileNames.h"
-#include "itkImageFileReader.h"
-#include "itkImageSeriesReader.h"
+#include "pbdrrVolumeLoader.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
-#include <sys/stat.h>
 
 namespace
 {
-using VolumeType = itk::Image<short, 3>;
+using VolumeType = pbdrr::VolumeType;
 using ProjectionType = itk::Image<float, 2>;
 using KernelEnum = itk::PointBasedDRREnums::ReconstructionKernel;
-
-VolumeType::Pointer
-ReadVolume(const std::string & path)
-{
-  struct stat status;
-  if (stat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode))
-  {
-    auto names = itk::GDCMSeriesFileNames::New();
-    names->SetUseSeriesDetails(true);
-    names->SetDirectory(path);
-    const auto & series = names->GetSeriesUIDs();
-    if (series.empty())
-    {
-      throw std::runtime_error("no DICOM series in " + path);
-    }
-    auto reader = itk::ImageSeriesReader<VolumeType>::New();
-    reader->SetImageIO(itk::GDCMImageIO::New());
-    reader->SetFileNames(names->GetFileNames(series.front()));
-    reader->Update();
-    return reader->GetOutput();
-  }
-  return itk::ReadImage<VolumeType>(path);
-}
 
 double
 Seconds(const std::chrono::steady_clock::time_point & start)
@@ -72,10 +45,10 @@ Seconds(const std::chrono::steady_clock::time_point & start)
 
 struct Errors
 {
-  double Nrmse;      // RMSE / (max - min of the reference)
+  double Nrmse;        // RMSE / (max - min of the reference)
   double RelativeRmse; // RMSE / mean of the reference
-  double MaxError;   // max |error| / (max - min of the reference)
-  double SumRatio;   // sum(image) / sum(reference): the bias
+  double MaxError;     // max |error| / (max - min of the reference)
+  double SumRatio;     // sum(image) / sum(reference): the bias
 };
 
 Errors
@@ -129,10 +102,10 @@ main(int argc, char * argv[])
   const unsigned int runs = argc > 6 ? std::stoul(argv[6]) : 3;
   try
   {
-    auto       start = std::chrono::steady_clock::now();
-    const auto volume = ReadVolume(argv[1]);
-    const double loadSeconds = Seconds(start);
-    const auto region = volume->GetLargestPossibleRegion();
+    auto                            start = std::chrono::steady_clock::now();
+    const auto                      volume = pbdrr::LoadVolume(argv[1], "").Image;
+    const double                    loadSeconds = Seconds(start);
+    const auto                      region = volume->GetLargestPossibleRegion();
     itk::ContinuousIndex<double, 3> centreIndex;
     for (unsigned int a = 0; a < 3; ++a)
     {
@@ -149,8 +122,8 @@ main(int argc, char * argv[])
 
     std::cout << "Volume " << region.GetSize() << " spacing " << volume->GetSpacing() << " loaded in " << loadSeconds
               << " s; detector " << cols << " x " << cols << " at " << spacing << " mm, gantry " << gantry
-              << " deg, SAD 1000 mm, SID 1500 mm; threads "
-              << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads() << "; median of " << runs << " runs\n\n";
+              << " deg, SAD 1000 mm, SID 1500 mm; threads " << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads()
+              << "; median of " << runs << " runs\n\n";
 
     using ExactType = itk::ExactDRRImageFilter<VolumeType, ProjectionType>;
     using PointType = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>;
@@ -167,7 +140,7 @@ main(int argc, char * argv[])
       reference->SetRaysPerPixelSide(referenceRays);
       start = std::chrono::steady_clock::now();
       reference->Update();
-      const double referenceSeconds = Seconds(start);
+      const double              referenceSeconds = Seconds(start);
       const std::vector<double> truth(reference->GetOutput()->GetBufferPointer(),
                                       reference->GetOutput()->GetBufferPointer() + cols * cols);
       std::cout << "| exact (reference) | " << kernelName << " | " << referenceRays * referenceRays << " | "
@@ -182,8 +155,8 @@ main(int argc, char * argv[])
         exact->Update(); // builds the attenuation volume once
         const double seconds = MedianSeconds(exact.GetPointer(), runs);
         const Errors e = Compare(exact->GetOutput(), truth);
-        std::cout << "| exact | " << kernelName << " | " << rays * rays << " | " << seconds << " | " << e.Nrmse
-                  << " | " << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
+        std::cout << "| exact | " << kernelName << " | " << rays * rays << " | " << seconds << " | " << e.Nrmse << " | "
+                  << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
       }
       auto drr = PointType::New();
       drr->SetInput(volume);

@@ -34,12 +34,10 @@ DRRLevelAliasSampler::Initialize(const DRRAttenuationVolume & volume)
   m_Mu = volume.GetMuBuffer();
   const float * mu = volume.GetMuBuffer();
 
-  std::vector<uint32_t> keys;
-  uint32_t              numberOfKeys = 0;
   if (!volume.GetLevelKeys().empty())
   {
-    keys = volume.GetLevelKeys();
-    numberOfKeys = keys.empty() ? 0 : *std::max_element(keys.begin(), keys.end()) + 1;
+    const std::vector<uint32_t> & keys = volume.GetLevelKeys();
+    this->BuildLevels(volume, keys, *std::max_element(keys.begin(), keys.end()) + 1);
   }
   else
   {
@@ -55,17 +53,17 @@ DRRLevelAliasSampler::Initialize(const DRRAttenuationVolume & volume)
         largest = std::max(largest, mu[v]);
       }
     }
-    numberOfKeys = std::max(1u, m_NumberOfBins);
-    keys.resize(numberOfVoxels);
-    const double logSmallest = largest > 0.0f ? std::log(static_cast<double>(smallest)) : 0.0;
-    const double logRange = largest > smallest ? std::log(static_cast<double>(largest)) - logSmallest : 1.0;
+    const uint32_t        numberOfKeys = std::max(1u, m_NumberOfBins);
+    std::vector<uint32_t> keys(numberOfVoxels);
+    const double          logSmallest = largest > 0.0f ? std::log(static_cast<double>(smallest)) : 0.0;
+    const double          logRange = largest > smallest ? std::log(static_cast<double>(largest)) - logSmallest : 1.0;
     for (uint64_t v = 0; v < numberOfVoxels; ++v)
     {
       const double position = mu[v] > 0.0f ? (std::log(static_cast<double>(mu[v])) - logSmallest) / logRange : 0.0;
       keys[v] = std::min(numberOfKeys - 1, static_cast<uint32_t>(std::max(0.0, position * numberOfKeys)));
     }
+    this->BuildLevels(volume, keys, numberOfKeys);
   }
-  this->BuildLevels(volume, keys, numberOfKeys);
 }
 
 void
