@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRExactRayIntegrator.h"
+#include "itkDRRWorkScheduler.h"
 
 #include <algorithm>
 #include <cmath>
@@ -216,15 +217,10 @@ DRRExactRayIntegrator::RenderProjection(const DRRPointProjection & projection,
   std::vector<double> image(static_cast<size_t>(columns) * rows, 0.0);
   const double        inverseRays = 1.0 / static_cast<double>(raysPerSide);
   const double        inverseRayCount = inverseRays * inverseRays;
-  const float         progressPerRow = 1.0f / static_cast<float>(rows);
-  threader->ParallelizeArray(
-    0,
+  DRRWorkScheduler::Run(
+    threader,
     rows,
-    [&](SizeValueType row) {
-      if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
-      {
-        return;
-      }
+    [&](unsigned int, uint64_t row) {
       for (unsigned int column = 0; column < columns; ++column)
       {
         double sum = 0.0;
@@ -239,18 +235,8 @@ DRRExactRayIntegrator::RenderProjection(const DRRPointProjection & projection,
         }
         image[static_cast<size_t>(row) * columns + column] = sum * inverseRayCount;
       }
-      if (progressFilter != nullptr)
-      {
-        progressFilter->IncrementProgress(progressPerRow);
-      }
     },
-    nullptr);
-  if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
-  {
-    ProcessAborted e(__FILE__, __LINE__);
-    e.SetDescription("Object " + std::string(progressFilter->GetNameOfClass()) + ": AbortGenerateDataOn");
-    throw e;
-  }
+    progressFilter);
   return image;
 }
 } // namespace itk

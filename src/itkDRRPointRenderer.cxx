@@ -16,11 +16,10 @@
  *
  *=========================================================================*/
 #include "itkDRRPointRenderer.h"
+#include "itkDRRWorkScheduler.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
 
 namespace itk
 {
@@ -239,41 +238,18 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   const ChunkRenderer chunkRenderer(
     volume, sampler, projection, settings, std::ldexp(1.0, sumExponent), std::ldexp(1.0, squareExponent));
 
-  const uint64_t numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
-  const uint64_t numberOfWorkers =
-    std::max<uint64_t>(1, std::min<uint64_t>(numberOfChunks, threader->GetNumberOfWorkUnits()));
-  std::vector<Accumulator> accumulators(numberOfWorkers);
-  std::atomic<uint64_t>    nextChunk{ 0 };
-  const float              progressPerChunk = 1.0f / static_cast<float>(numberOfChunks);
-
-  threader->ParallelizeArray(
-    0,
-    numberOfWorkers,
-    [&](SizeValueType worker) {
-      Accumulator & accumulator = accumulators[worker];
-      accumulator.Sum.assign(numberOfPixels, 0);
-      accumulator.SumOfSquares.assign(numberOfPixels, 0);
-      for (uint64_t chunk = nextChunk++; chunk < numberOfChunks; chunk = nextChunk++)
-      {
-        if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
-        {
-          nextChunk = numberOfChunks;
-          return;
-        }
-        chunkRenderer.Render(chunk, accumulator);
-        if (progressFilter != nullptr)
-        {
-          progressFilter->IncrementProgress(progressPerChunk);
-        }
-      }
-    },
-    nullptr);
-  if (progressFilter != nullptr && progressFilter->GetAbortGenerateData())
+  const uint64_t           numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
+  std::vector<Accumulator> accumulators(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
+  for (Accumulator & accumulator : accumulators)
   {
-    ProcessAborted e(__FILE__, __LINE__);
-    e.SetDescription("Object " + std::string(progressFilter->GetNameOfClass()) + ": AbortGenerateDataOn");
-    throw e;
+    accumulator.Sum.assign(numberOfPixels, 0);
+    accumulator.SumOfSquares.assign(numberOfPixels, 0);
   }
+  DRRWorkScheduler::Run(
+    threader,
+    numberOfChunks,
+    [&](unsigned int worker, uint64_t chunk) { chunkRenderer.Render(chunk, accumulators[worker]); },
+    progressFilter);
 
   // Integer reduction: exact, hence independent of the order and of the worker that held each chunk.
   const double valueScale = result.RoomMass / (N * projection.GetPixelArea());

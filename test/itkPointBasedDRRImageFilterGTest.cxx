@@ -22,6 +22,7 @@
 #include "itkExactDRRImageFilter.h"
 #include "itkAffineTransform.h"
 #include "itkDRRPhiloxRandom.h"
+#include "itkCommand.h"
 #include "PointBasedDRRTestHelpers.h"
 
 #include "gtest/gtest.h"
@@ -543,6 +544,39 @@ TEST(PointBasedDRRAccumulation, SeventeenMillionPointsInOnePixelSumExactly)
   EXPECT_NEAR(drr->GetOutput()->GetBufferPointer()[0], expected, 2e-7 * expected);
   // Every point contributed the same weight: the standard error of a constant sum is zero.
   EXPECT_NEAR(drr->GetStandardErrorOutput()->GetBufferPointer()[0], 0.0, 1e-6 * expected);
+}
+
+TEST(PointBasedDRRProgress, EventsFireDuringTheRenderOnThePipelineThread)
+{
+  // ITK invokes ProgressEvent observers only from the pipeline's thread: a filter whose workers alone report progress
+  // shows none until it ends. Both filters must report intermediate progress.
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  auto       geometry = MakeGeometry(ProjectionEnum::Perspective, 64, 48, 0.9, 1.0);
+  auto       pointBased = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>::New();
+  pointBased->SetNumberOfSamples(20000000);
+  auto exact = itk::ExactDRRImageFilter<HUVolumeType, ProjectionType>::New();
+  exact->SetRaysPerPixelSide(4);
+  for (itk::DRRImageFilterBase<HUVolumeType, ProjectionType> * filter :
+       { static_cast<itk::DRRImageFilterBase<HUVolumeType, ProjectionType> *>(pointBased.GetPointer()),
+         static_cast<itk::DRRImageFilterBase<HUVolumeType, ProjectionType> *>(exact.GetPointer()) })
+  {
+    filter->SetInput(volume);
+    filter->SetGeometry(geometry);
+    filter->GetMultiThreader()->SetMaximumNumberOfThreads(2); // other tests change the global default
+    std::vector<float> seen;
+    auto               command = itk::CStyleCommand::New();
+    command->SetClientData(&seen);
+    command->SetCallback([](itk::Object * caller, const itk::EventObject &, void * data) {
+      static_cast<std::vector<float> *>(data)->push_back(static_cast<itk::ProcessObject *>(caller)->GetProgress());
+    });
+    filter->AddObserver(itk::ProgressEvent(), command);
+    filter->Update();
+    const auto intermediate = std::count_if(seen.begin(), seen.end(), [](float p) { return p > 0.0f && p < 1.0f; });
+    EXPECT_GE(intermediate, 10) << filter->GetNameOfClass();
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end())) << filter->GetNameOfClass();
+    ASSERT_FALSE(seen.empty());
+    EXPECT_EQ(seen.back(), 1.0f);
+  }
 }
 
 TEST(PointBasedDRRRandom, PhiloxMatchesRandom123KnownAnswers)

@@ -490,8 +490,8 @@ Run(const Options & options)
   ProgressBar progress(chatty);
   auto        command = itk::CStyleCommand::New();
   command->SetClientData(&progress);
-  command->SetConstCallback([](const itk::Object * caller, const itk::EventObject &, void * data) {
-    static_cast<ProgressBar *>(data)->Show(static_cast<const itk::ProcessObject *>(caller)->GetProgress());
+  command->SetCallback([](itk::Object * caller, const itk::EventObject &, void * data) {
+    static_cast<ProgressBar *>(data)->Show(static_cast<itk::ProcessObject *>(caller)->GetProgress());
   });
   filter->AddObserver(itk::ProgressEvent(), command);
   start = Clock::now();
