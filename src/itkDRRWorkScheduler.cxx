@@ -36,8 +36,9 @@ DRRWorkScheduler::Run(MultiThreaderBase * threader,
                       ProcessObject *     progressFilter)
 {
   const unsigned int workers = GetNumberOfWorkers(threader, numberOfItems);
-  // Enough items per wave to keep every worker busy, few enough waves to keep the barriers cheap.
-  const uint64_t waves = std::max<uint64_t>(1, std::min<uint64_t>(50, numberOfItems / (2 * workers)));
+  // Two items per worker and wave keep every worker busy; 16 to 50 waves give smooth progress at little barrier cost.
+  const uint64_t waves =
+    std::min<uint64_t>(50, std::max<uint64_t>(std::min<uint64_t>(numberOfItems, 16), numberOfItems / (2 * workers)));
   for (uint64_t wave = 0; wave < waves; ++wave)
   {
     const uint64_t        end = numberOfItems * (wave + 1) / waves;
