@@ -195,7 +195,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
       itkExceptionMacro("the input volume has a non-finite value (" << value << ") at " << reportVoxel(v));
     }
     const double attenuation = transfer.Evaluate(value);
-    if (!(attenuation >= 0.0) || !std::isfinite(attenuation))
+    if (!(attenuation >= 0.0) || !(attenuation <= std::numeric_limits<float>::max()))
     {
       itkExceptionMacro("negative or non-finite attenuation " << attenuation << " /mm from input value " << value
                                                               << " at " << reportVoxel(v)
@@ -331,6 +331,14 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
   }
   const double grayMaximum = m_OutputMode == OutputModeEnum::Gray8 ? 255.0 : 65535.0;
 
+  const auto notFinite =
+    std::find_if(lineIntegral.begin(), lineIntegral.end(), [](double v) { return !std::isfinite(v); });
+  if (notFinite != lineIntegral.end())
+  {
+    itkExceptionMacro("the projection has a non-finite value (" << *notFinite << ") at pixel "
+                                                                << notFinite - lineIntegral.begin()
+                                                                << ": the attenuation or the geometry is out of range");
+  }
   OutputPixelType * values = this->AllocateOutput(0, lineIntegral.size());
   OutputPixelType * errors = standardError ? this->AllocateOutput(1, lineIntegral.size()) : nullptr;
   for (size_t p = 0; p < lineIntegral.size(); ++p)

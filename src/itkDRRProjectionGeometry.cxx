@@ -241,6 +241,21 @@ DRRProjectionGeometry::GetDetectorOrigin2D() const
 void
 DRRProjectionGeometry::VerifyGeometry() const
 {
+  // Lengths a radiograph can mean, 1 nm to 10 km: far outside, float images and projections lose all precision.
+  constexpr double shortest = 1e-6;
+  constexpr double longest = 1e7;
+  const auto       outOfRange = [](double length) { return !(std::abs(length) <= longest); };
+  if (outOfRange(m_SourceToIsocenterDistance) || outOfRange(m_SourceToDetectorDistance) ||
+      outOfRange(m_DetectorOffset[0]) || outOfRange(m_DetectorOffset[1]) || outOfRange(m_Isocenter[0]) ||
+      outOfRange(m_Isocenter[1]) || outOfRange(m_Isocenter[2]))
+  {
+    ThrowGeometryError("SAD, SID, detector offset and isocenter must be within 1e7 mm (10 km)");
+  }
+  if (static_cast<double>(m_DetectorSize[0]) * static_cast<double>(m_DetectorSize[1]) > 268435456.0)
+  {
+    ThrowGeometryError("a detector of " + std::to_string(m_DetectorSize[0]) + " x " +
+                       std::to_string(m_DetectorSize[1]) + " pixels is more than 2^28 pixels");
+  }
   if (m_Projection == ProjectionEnum::Perspective)
   {
     if (!(m_SourceToIsocenterDistance > 0.0) || !std::isfinite(m_SourceToIsocenterDistance))
@@ -248,9 +263,9 @@ DRRProjectionGeometry::VerifyGeometry() const
       ThrowGeometryError("the source to isocenter distance (SAD) must be positive and finite, got " +
                          std::to_string(m_SourceToIsocenterDistance) + " mm");
     }
-    if (!(m_SourceToDetectorDistance > 0.0) || !std::isfinite(m_SourceToDetectorDistance))
+    if (!(m_SourceToDetectorDistance >= shortest) || !std::isfinite(m_SourceToDetectorDistance))
     {
-      ThrowGeometryError("the source to detector distance (SID) must be positive and finite, got " +
+      ThrowGeometryError("the source to detector distance (SID) must be positive, at least 1e-6 mm, got " +
                          std::to_string(m_SourceToDetectorDistance) + " mm");
     }
   }
@@ -265,10 +280,10 @@ DRRProjectionGeometry::VerifyGeometry() const
     {
       ThrowGeometryError(std::string("the detector has zero ") + (d == 0 ? "columns" : "rows"));
     }
-    if (!(m_DetectorSpacing[d] > 0.0) || !std::isfinite(m_DetectorSpacing[d]))
+    if (!(m_DetectorSpacing[d] >= shortest && m_DetectorSpacing[d] <= longest))
     {
       ThrowGeometryError(std::string("the detector pixel spacing along the ") + axis +
-                         " must be positive and finite, got " + std::to_string(m_DetectorSpacing[d]) + " mm");
+                         " must be positive, from 1e-6 to 1e7 mm, got " + std::to_string(m_DetectorSpacing[d]) + " mm");
     }
     if (!std::isfinite(m_DetectorOffset[d]))
     {

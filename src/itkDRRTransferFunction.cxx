@@ -86,9 +86,11 @@ DRRTransferFunction::SetEffectiveEnergyInKeV(double energyInKeV)
 void
 DRRTransferFunction::SetMuWaterPerMillimeter(double muWater)
 {
-  if (!(muWater > 0.0) || !std::isfinite(muWater))
+  // Water attenuates between about 0.005 /mm (10 MeV) and 0.53 /mm (10 keV): anything far outside is a unit error.
+  if (!(muWater > 0.0) || !(muWater <= 10.0))
   {
-    itkExceptionMacro("mu_water must be positive and finite, got " << muWater << " /mm");
+    itkExceptionMacro("mu_water must be positive and at most 10 /mm (water is 0.02059 /mm at 60 keV), got " << muWater
+                                                                                                            << " /mm");
   }
   m_MuWaterPerMillimeter = muWater;
   m_EffectiveEnergyInKeV = 0.0; // no longer derived from an energy

@@ -17,6 +17,7 @@
  *=========================================================================*/
 // pbdrr: digitally reconstructed radiographs from the command line (see pbdrr --help).
 #include "pbdrrApplication.h"
+#include "pbdrrMessages.h"
 #include "itkMacro.h"
 
 #include <iostream>
@@ -24,9 +25,11 @@
 int
 main(int argc, char * argv[])
 {
+  pbdrr::InstallMessageWindow();
   try
   {
     const pbdrr::Options options = pbdrr::ParseCommandLine(std::vector<std::string>(argv + 1, argv + argc));
+    pbdrr::SetQuietMessages(options.quiet);
     if (options.help)
     {
       std::cout << pbdrr::HelpText();
@@ -47,12 +50,12 @@ main(int argc, char * argv[])
   }
   catch (const itk::ExceptionObject & e)
   {
-    std::cerr << "pbdrr: error: " << e.GetDescription() << std::endl;
+    std::cerr << "pbdrr: error: " << pbdrr::CleanMessage(e.GetDescription()) << std::endl;
     return 1;
   }
   catch (const std::exception & e)
   {
-    std::cerr << "pbdrr: error: " << e.what() << std::endl;
+    std::cerr << "pbdrr: error: " << pbdrr::CleanMessage(e.what()) << std::endl;
     return 1;
   }
 }

@@ -33,6 +33,7 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace pbdrr
@@ -84,16 +85,34 @@ OutputKind(const std::string & path)
   throw UsageError("output " + path + ": unknown extension (use .mha, .nrrd, .nii, .nii.gz, .tif or .png)");
 }
 
-/** Checks up front that a file can be created at path, so a long render does not end in a write error. */
+/** Checks up front, without creating anything, that a file can be written at path, so that a long render does not
+ * end in a write error and a failed run leaves no empty file behind. */
 void
 CheckWritable(const std::string & path)
 {
-  FILE * file = std::fopen(path.c_str(), "ab");
-  if (!file)
+  struct stat status;
+  if (stat(path.c_str(), &status) == 0)
+  {
+    if (S_ISDIR(status.st_mode))
+    {
+      throw std::runtime_error("cannot write output " + path + ": it is a directory");
+    }
+    if (access(path.c_str(), W_OK) != 0)
+    {
+      throw std::runtime_error("cannot write output " + path + ": " + std::strerror(errno));
+    }
+    return;
+  }
+  const size_t      slash = path.find_last_of('/');
+  const std::string directory = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  if (stat(directory.c_str(), &status) != 0 || !S_ISDIR(status.st_mode))
+  {
+    throw std::runtime_error("cannot write output " + path + ": directory " + directory + " does not exist");
+  }
+  if (access(directory.c_str(), W_OK) != 0)
   {
     throw std::runtime_error("cannot write output " + path + ": " + std::strerror(errno));
   }
-  std::fclose(file);
 }
 
 itk::DRRProjectionGeometry::Pointer
@@ -388,10 +407,6 @@ WriteOutputs(const Options &            options,
   }
   if (standardError)
   {
-    if (OutputKind(options.standardErrorOutput) == "png")
-    {
-      throw UsageError("--stderr needs a float format (.mha, .nrrd, .nii, .tif), not .png");
-    }
     write(standardError, options.standardErrorOutput, true);
   }
 }
@@ -412,11 +427,19 @@ Run(const Options & options)
   OutputKind(options.output); // refuse unknown extensions before any work
   if (!options.standardErrorOutput.empty())
   {
-    OutputKind(options.standardErrorOutput);
+    if (OutputKind(options.standardErrorOutput) == "png")
+    {
+      throw UsageError("--stderr needs a float format (.mha, .nrrd, .nii, .tif), not .png");
+    }
     if (!options.exact.empty())
     {
       throw UsageError("--stderr: an exact render has no statistical error");
     }
+  }
+  struct stat inputStatus;
+  if (!options.seriesUID.empty() && stat(options.input.c_str(), &inputStatus) == 0 && !S_ISDIR(inputStatus.st_mode))
+  {
+    throw UsageError("--series selects a series in a DICOM directory; " + options.input + " is a file");
   }
   CheckWritable(options.output);
   if (!options.standardErrorOutput.empty())
@@ -498,6 +521,15 @@ Run(const Options & options)
   filter->Update();
   progress.Finish();
   stages.emplace_back(options.exact.empty() ? "sample+project" : "exact projection", SecondsSince(start));
+  const ProjectionType * image = filter->GetOutput();
+  if (chatty && std::all_of(image->GetBufferPointer(),
+                            image->GetBufferPointer() + image->GetBufferedRegion().GetNumberOfPixels(),
+                            [](float v) { return v == 0.0f; }))
+  {
+    std::cerr << "pbdrr: warning: the image is empty: the volume is all air or does not project onto the detector "
+                 "(check --isocenter, --gantry/--nrm, --offset and --size)"
+              << std::endl;
+  }
 
   start = Clock::now();
   WriteOutputs(options,

@@ -95,6 +95,18 @@ OneOf(const std::string & value, const std::string & flag, const std::vector<std
   throw UsageError(flag + " expects one of " + list + ", got '" + value + "'");
 }
 
+/** A length in mm within what a radiograph can mean: 1 nm to 10 km. */
+double
+PositiveLength(const std::string & value, const std::string & flag, const std::string & name)
+{
+  const double length = ParseNumber(value, flag);
+  if (!(length >= 1e-6 && length <= 1e7))
+  {
+    throw UsageError(flag + ": the " + name + " must be a positive length in mm (1e-6 to 1e7), got '" + value + "'");
+  }
+  return length;
+}
+
 unsigned
 WholeNumber(const std::string & value, const std::string & flag, double lowest, double highest)
 {
@@ -124,8 +136,8 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--stderr", { 1, [&](const auto & v) { options.standardErrorOutput = v[0]; } } },
     { "--geometry", { 1, [&](const auto & v) { options.geometryFile = v[0]; } } },
     { "--series", { 1, [&](const auto & v) { options.seriesUID = v[0]; } } },
-    { "--sad", { 1, [&](const auto & v) { options.sad = ParseNumber(v[0], "--sad"); } } },
-    { "--sid", { 1, [&](const auto & v) { options.sid = ParseNumber(v[0], "--sid"); } } },
+    { "--sad", { 1, [&](const auto & v) { options.sad = PositiveLength(v[0], "--sad", "SAD"); } } },
+    { "--sid", { 1, [&](const auto & v) { options.sid = PositiveLength(v[0], "--sid", "SID"); } } },
     { "--gantry", { 1, [&](const auto & v) { options.gantryDegrees = ParseNumber(v[0], "--gantry"); } } },
     { "--isocenter", { 3, [&](const auto & v) { options.isocenter = Numbers<3>(v, "--isocenter"); } } },
     { "--nrm", { 3, [&](const auto & v) { options.normal = Numbers<3>(v, "--nrm"); } } },
@@ -136,7 +148,12 @@ ParseCommandLine(const std::vector<std::string> & arguments)
           options.detectorSize = std::array<double, 2>{ static_cast<double>(WholeNumber(v[0], "--size", 1, 16384)),
                                                         static_cast<double>(WholeNumber(v[1], "--size", 1, 16384)) };
         } } },
-    { "--spacing", { 2, [&](const auto & v) { options.detectorSpacing = Numbers<2>(v, "--spacing"); } } },
+    { "--spacing",
+      { 2,
+        [&](const auto & v) {
+          options.detectorSpacing = std::array<double, 2>{ PositiveLength(v[0], "--spacing", "pixel spacing"),
+                                                           PositiveLength(v[1], "--spacing", "pixel spacing") };
+        } } },
     { "--offset", { 2, [&](const auto & v) { options.detectorOffset = Numbers<2>(v, "--offset"); } } },
     { "--parallel", { 0, [&](const auto &) { options.parallel = true; } } },
     { "--samples", { 1, [&](const auto & v) { options.samples = ParseSampleCount(v[0]); } } },

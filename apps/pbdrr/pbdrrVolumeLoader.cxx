@@ -214,7 +214,26 @@ ReadFile(const std::string & path, const itk::ImageIOBase::Pointer & io)
   auto reader = itk::ImageFileReader<VolumeType>::New();
   reader->SetFileName(path);
   reader->SetImageIO(io);
-  reader->Update();
+  // Some readers (MetaImage) report a short read on std::cerr and carry on: listen, and refuse such a volume.
+  std::ostringstream readerMessages;
+  std::streambuf *   standardError = std::cerr.rdbuf(readerMessages.rdbuf());
+  try
+  {
+    reader->Update();
+  }
+  catch (...)
+  {
+    std::cerr.rdbuf(standardError);
+    throw;
+  }
+  std::cerr.rdbuf(standardError);
+  const std::string messages = readerMessages.str();
+  if (messages.find("not read completely") != std::string::npos || messages.find("rror") != std::string::npos)
+  {
+    Fail("cannot read " + path + ": the file is truncated or damaged (" + messages.substr(0, messages.find('\n')) +
+         ")");
+  }
+  std::cerr << messages;
   VolumeType::Pointer image = reader->GetOutput();
   image->DisconnectPipeline(); // the volume is data from now on: no reader re-executes behind it
   return image;
@@ -273,6 +292,10 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
     io->SetFileName(files[0]);
     io->ReadImageInformation();
     loaded.Image = ReadFile(files[0], io.GetPointer());
+    if (loaded.Image->GetLargestPossibleRegion().GetSize()[2] < 2)
+    {
+      Fail("the DICOM series in " + directory + " is a single 2D slice; pbdrr needs a volume");
+    }
   }
   else
   {

@@ -1,0 +1,36 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef pbdrrMessages_h
+#define pbdrrMessages_h
+
+#include <string>
+
+namespace pbdrr
+{
+/** An ITK message without its machinery: no "ITK ERROR:", source file and line, or "Class (0x...):" prefix. */
+std::string
+CleanMessage(const std::string & message);
+
+/** Routes ITK warnings to stderr as "pbdrr: warning: ..." (cleaned), or nowhere when quiet. */
+void
+InstallMessageWindow();
+void
+SetQuietMessages(bool quiet);
+} // namespace pbdrr
+
+#endif
