@@ -18,6 +18,7 @@
 #ifndef itkDRRLevelAliasSampler_h
 #define itkDRRLevelAliasSampler_h
 
+#include "itkDRRAttenuationLevels.h"
 #include "itkDRRPointSampler.h"
 
 #include <vector>
@@ -71,7 +72,7 @@ public:
   size_t
   GetNumberOfLevels() const
   {
-    return m_LevelCount.size();
+    return m_Levels.GetNumberOfLevels();
   }
 
 protected:
@@ -82,17 +83,10 @@ protected:
 
 private:
   void
-  BuildLevels(const DRRAttenuationVolume & volume, const std::vector<uint32_t> & keys, uint32_t numberOfKeys);
-  void
   BuildAliasTable(const std::vector<double> & levelMass);
 
   unsigned int          m_NumberOfBins{ 4096 };
-  const float *         m_Mu{ nullptr };
-  bool                  m_UnitWeights{ true };
-  std::vector<uint32_t> m_VoxelIndices;   // voxels grouped by level
-  std::vector<uint64_t> m_LevelStart;     // first entry of each level in m_VoxelIndices
-  std::vector<uint32_t> m_LevelCount;     // voxels per level
-  std::vector<double>   m_LevelMeanMu;    // mean mu per level (1/mm)
+  DRRAttenuationLevels  m_Levels;
   std::vector<uint32_t> m_AliasThreshold; // accept bucket b if random32 < threshold[b]
   std::vector<uint32_t> m_Alias;
 };

@@ -22,6 +22,9 @@
 #include "itkExactDRRImageFilter.h"
 #include "itkAffineTransform.h"
 #include "itkDRRPhiloxRandom.h"
+#include "itkDRRSamplerFactory.h"
+#include "itkDRRLevelAliasSampler.h"
+#include "itkDRRPaperHybridSampler.h"
 #include "itkCommand.h"
 #include "PointBasedDRRTestHelpers.h"
 
@@ -84,12 +87,13 @@ struct Scenario
   SplatEnum      splat;
   bool           muInput;   // float input, mu per voxel continuous: binned levels with correction weights
   bool           transform; // an anisotropic affine transform between room and volume
+  std::string    sampler{ "level-alias" };
 };
 
 std::ostream &
 operator<<(std::ostream & os, const Scenario & s)
 {
-  return os << s.projection << "/" << s.kernel << "/" << s.splat << (s.muInput ? "/mu-input" : "")
+  return os << s.sampler << "/" << s.projection << "/" << s.kernel << "/" << s.splat << (s.muInput ? "/mu-input" : "")
             << (s.transform ? "/affine" : "");
 }
 
@@ -236,7 +240,8 @@ RenderSeeds(const TVolume *              volume,
             itk::DRRProjectionGeometry * geometry,
             WeightingEnum                weighting,
             uint64_t                     samples,
-            unsigned int                 seeds)
+            unsigned int                 seeds,
+            itk::DRRPointSampler *       sampler = nullptr)
 {
   auto drr = itk::PointBasedDRRImageFilter<TVolume, ProjectionType>::New();
   drr->SetInput(volume);
@@ -245,6 +250,7 @@ RenderSeeds(const TVolume *              volume,
   drr->SetReconstructionKernel(scenario.kernel);
   drr->SetSplat(scenario.splat);
   drr->SetPointWeighting(weighting);
+  drr->SetSampler(sampler ? sampler : itk::DRRSamplerFactory::Create(scenario.sampler).GetPointer());
   drr->SetNumberOfSamples(samples);
   const size_t   pixels = geometry->GetDetectorSize()[0] * geometry->GetDetectorSize()[1];
   SeedStatistics stats;
@@ -370,10 +376,105 @@ AllScenarios()
   }
   scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Nearest, true, false });
   scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Bilinear, false, true });
+  for (const char * sampler : { "paper-hybrid", "mcvr" })
+  {
+    scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false, sampler });
+    scenarios.push_back({ ProjectionEnum::Parallel, KernelEnum::Box, SplatEnum::Nearest, false, false, sampler });
+  }
+  scenarios.push_back(
+    { ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, true, false, "paper-hybrid" });
   return scenarios;
 }
 
 INSTANTIATE_TEST_SUITE_P(KernelsSplatsBeams, PointBasedDRRUnbiased, testing::ValuesIn(AllScenarios()));
+
+struct BiasCheck
+{
+  double SumZ;      // z of the image sum
+  double MaxPixelZ; // largest |z| over pixels with signal
+  double SumRatio;  // image sum / exact image sum
+};
+
+/** A sampler's mean over 32 seeds against the exact reference (perspective, box, nearest), in z-scores. */
+BiasCheck
+CheckSamplerBias(const HUVolumeType * volume, itk::DRRPointSampler * sampler, uint64_t samples)
+{
+  const Scenario     scenario{ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, false, false };
+  ReferenceBuilder   builder(scenario, 8, 6, 7.0, 8.0);
+  const auto         reference = builder.Compute(volume, 32);
+  auto               geometry = MakeGeometry(scenario.projection, 8, 6, 7.0, 8.0);
+  const unsigned int seeds = 32;
+  const auto stats = RenderSeeds(volume, scenario, builder, geometry, WeightingEnum::Unbiased, samples, seeds, sampler);
+  double     referenceSum = 0.0, meanSum = 0.0, spread = 0.0, worst = 0.0;
+  for (size_t p = 0; p < reference.size(); ++p)
+  {
+    referenceSum += reference[p];
+    meanSum += stats.Mean[p];
+    // The standard deviation of a sum is at most the sum of the standard deviations: a conservative bound.
+    spread += std::sqrt(stats.Variance[p]);
+    if (stats.Variance[p] > 0.0)
+    {
+      worst = std::max(worst, std::abs(stats.Mean[p] - reference[p]) / std::sqrt(stats.Variance[p] / seeds));
+    }
+  }
+  return { (meanSum - referenceSum) / (spread / std::sqrt(static_cast<double>(seeds))), worst, meanSum / referenceSum };
+}
+
+/** Mostly soft tissue, a little bone: level sizes as unequal as in CT. */
+HUVolumeType::Pointer
+MakeLopsidedPhantom()
+{
+  auto phantom = MakePhantom<HUVolumeType>(false);
+  for (size_t v = 0; v < phantom->GetBufferedRegion().GetNumberOfPixels(); ++v)
+  {
+    phantom->GetBufferPointer()[v] = v % 23 == 0 ? 1500 : (v % 7 == 0 ? -1000 : 40);
+  }
+  return phantom;
+}
+
+TEST(PointBasedDRRPaperHybrid, RouletteExtremesAndOddLevelsStayUnbiased)
+{
+  auto phantom = MakePhantom<HUVolumeType>(false);
+  for (double q : { 0.0, 1.0 })
+  {
+    auto sampler = itk::DRRPaperHybridSampler::New();
+    sampler->SetRouletteSurvival(q);
+    const BiasCheck check = CheckSamplerBias(MakeLopsidedPhantom(), sampler, 100000);
+    EXPECT_LT(std::abs(check.SumZ), zBound) << "q = " << q;
+    EXPECT_LT(check.MaxPixelZ, zBound + 0.5) << "q = " << q; // 48 pixels, t distribution of 32 seeds
+  }
+  // One non-air level; then a level holding one voxel; then fewer points than levels.
+  auto oneLevel = MakePhantom<HUVolumeType>(false);
+  oneLevel->FillBuffer(0);
+  auto sampler = itk::DRRPaperHybridSampler::New();
+  EXPECT_LT(std::abs(CheckSamplerBias(oneLevel, sampler, 100000).SumZ), zBound) << "one level";
+  auto oneVoxelLevel = MakePhantom<HUVolumeType>(false);
+  oneVoxelLevel->SetPixel({ { 3, 3, 2 } }, 3000);
+  EXPECT_LT(std::abs(CheckSamplerBias(oneVoxelLevel, sampler, 100000).SumZ), zBound) << "a one-voxel level";
+  auto manyLevels = MakePhantom<HUVolumeType>(false);
+  for (size_t v = 0; v < manyLevels->GetBufferedRegion().GetNumberOfPixels(); ++v)
+  {
+    manyLevels->GetBufferPointer()[v] = static_cast<short>(-900 + 7 * static_cast<int>(v)); // 210 levels
+  }
+  EXPECT_LT(std::abs(CheckSamplerBias(manyLevels, sampler, 50).SumZ), zBound) << "50 points, 210 levels";
+  EXPECT_LT(std::abs(CheckSamplerBias(manyLevels, itk::DRRLevelAliasSampler::New(), 50).SumZ), zBound) << "level-alias";
+}
+
+TEST(PointBasedDRRPaperHybrid, UnweightedCountIsBiasedAndTheBiasIsMeasured)
+{
+  // Without weights the paper's hybrid draws a level with probability ~ p(l) = mu_l / mu_max whatever its size: small
+  // dense levels (bone) are drawn far too often, large ones (soft tissue) too rarely. The image sum hardly shows it
+  // (every point carries M / (N a)), the pixels do.
+  auto unweighted = itk::DRRPaperHybridSampler::New();
+  unweighted->SetUseExactWeights(false);
+  const BiasCheck biased = CheckSamplerBias(MakeLopsidedPhantom(), unweighted, 100000);
+  auto            weighted = itk::DRRPaperHybridSampler::New();
+  const BiasCheck exact = CheckSamplerBias(MakeLopsidedPhantom(), weighted, 100000);
+  std::cout << "paper-hybrid without weights: worst pixel |z| " << biased.MaxPixelZ << ", image sum ratio "
+            << biased.SumRatio << "; with exact weights: worst pixel |z| " << exact.MaxPixelZ << std::endl;
+  EXPECT_GT(biased.MaxPixelZ, 20.0);
+  EXPECT_LT(exact.MaxPixelZ, zBound + 0.5);
+}
 
 TEST(PointBasedDRRStandardError, PredictsTheSpreadOfManySeedsToFivePercent)
 {

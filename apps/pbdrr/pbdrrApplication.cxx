@@ -20,6 +20,8 @@
 
 #include "itkCommand.h"
 #include "itkExactDRRImageFilter.h"
+#include "itkDRRPaperHybridSampler.h"
+#include "itkDRRSamplerFactory.h"
 #include "itkImageFileWriter.h"
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkVersion.h"
@@ -481,6 +483,12 @@ Run(const Options & options)
                                                      : itk::PointBasedDRREnums::Splat::Nearest);
     pointBased->SetPointWeighting(options.paperCount ? itk::PointBasedDRREnums::PointWeighting::PaperCount
                                                      : itk::PointBasedDRREnums::PointWeighting::Unbiased);
+    auto sampler = itk::DRRSamplerFactory::Create(options.sampler);
+    if (auto * hybrid = dynamic_cast<itk::DRRPaperHybridSampler *>(sampler.GetPointer()))
+    {
+      hybrid->SetUseExactWeights(!options.paperCount);
+    }
+    pointBased->SetSampler(sampler);
     filter = pointBased.GetPointer();
   }
   else
@@ -542,9 +550,10 @@ Run(const Options & options)
   {
     if (pointBased)
     {
-      std::cerr << "pbdrr: samples " << options.samples << ", seed " << options.seed << ", kernel " << options.kernel
-                << ", splat " << options.splat << ", attenuation mass M " << pointBased->GetTotalMass()
-                << " mm^2, points on the detector " << pointBased->GetPointsOnDetector() << std::endl;
+      std::cerr << "pbdrr: sampler " << options.sampler << ", samples " << options.samples << ", seed " << options.seed
+                << ", kernel " << options.kernel << ", splat " << options.splat << ", attenuation mass M "
+                << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
+                << std::endl;
     }
     for (const auto & note : notes)
     {

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrOptions.h"
+#include "itkDRRSamplerFactory.h"
 
 #include <cerrno>
 #include <cmath>
@@ -107,6 +108,17 @@ PositiveLength(const std::string & value, const std::string & flag, const std::s
   return length;
 }
 
+std::vector<std::string>
+SamplerNames()
+{
+  std::vector<std::string> names;
+  for (const auto & entry : itk::DRRSamplerFactory::GetEntries())
+  {
+    names.push_back(entry.Name);
+  }
+  return names;
+}
+
 unsigned
 WholeNumber(const std::string & value, const std::string & flag, double lowest, double highest)
 {
@@ -157,7 +169,7 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--offset", { 2, [&](const auto & v) { options.detectorOffset = Numbers<2>(v, "--offset"); } } },
     { "--parallel", { 0, [&](const auto &) { options.parallel = true; } } },
     { "--samples", { 1, [&](const auto & v) { options.samples = ParseSampleCount(v[0]); } } },
-    { "--sampler", { 1, [&](const auto & v) { options.sampler = OneOf(v[0], "--sampler", { "level-alias" }); } } },
+    { "--sampler", { 1, [&](const auto & v) { options.sampler = OneOf(v[0], "--sampler", SamplerNames()); } } },
     { "--kernel",
       { 1,
         [&](const auto & v) {
@@ -287,12 +299,15 @@ Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = 
 
 Rendering:
   --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default 10M)
-  --sampler NAME         level-alias (exact importance sampling by attenuation level; default)
+  --sampler NAME         level-alias (default: exact importance sampling by attenuation level, O(1) per point),
+                         paper-hybrid (the paper's Algorithm 1 with exact weights), mcvr (uniform voxels weighted
+                         by mu, the Monte Carlo volume rendering baseline)
   --kernel box|tent      voxel model: box (piecewise constant, default) or tent (trilinear)
   --splat nearest|bilinear
   --seed S               random seed (default 0): the same seed gives the same image on any thread count
   --threads T            worker threads (default: all cores)
-  --paper-count          count points unweighted, as the paper does (biased in perspective)
+  --paper-count          count points unweighted, as the paper does (biased in perspective, and for
+                         paper-hybrid biased towards small dense levels)
   --exact siddon|trilinear   render with the exact projector instead (box or tent model), no noise
   --ss K                 with --exact: K x K rays per pixel (default 1)
 

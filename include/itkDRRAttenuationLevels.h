@@ -1,0 +1,107 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRAttenuationLevels_h
+#define itkDRRAttenuationLevels_h
+
+#include "itkDRRAttenuationVolume.h"
+#include "PointBasedDRRExport.h"
+
+#include <vector>
+
+namespace itk
+{
+/** \class DRRAttenuationLevels
+ * \brief The paper's hist[l]: the non-air voxels grouped by attenuation level, for the level samplers.
+ *
+ * With level keys (integer input such as HU) every level holds voxels of one mu. Without, mu is binned into
+ * log-spaced levels and a voxel drawn uniformly from its level needs the correction weight mu_v / (mean mu of the
+ * level) to stay exact. Memory: 4 bytes per non-air voxel and a few per level.
+ *
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRAttenuationLevels
+{
+public:
+  /** Groups the voxels with mu > 0; numberOfBins is used only for volumes without level keys. */
+  void
+  Build(const DRRAttenuationVolume & volume, unsigned int numberOfBins);
+
+  size_t
+  GetNumberOfLevels() const
+  {
+    return m_Count.size();
+  }
+  uint32_t
+  GetCount(size_t level) const
+  {
+    return m_Count[level];
+  }
+  double
+  GetMeanMu(size_t level) const
+  {
+    return m_MeanMu[level];
+  }
+  /** Sum of mu over the level's voxels (1/mm; times the voxel volume it is the level's mass). */
+  double
+  GetMuSum(size_t level) const
+  {
+    return m_MuSum[level];
+  }
+  /** Sum of mu over every non-air voxel, 1/mm. */
+  double
+  GetTotalMuSum() const
+  {
+    return m_TotalMuSum;
+  }
+  /** Linear index of voxel number  of a level. */
+  uint32_t
+  GetVoxel(size_t level, uint64_t i) const
+  {
+    return m_VoxelIndices[m_Start[level] + i];
+  }
+  /** Exact-sampling correction of a voxel drawn uniformly from its level: 1 when levels are uniform. */
+  double
+  GetCorrection(uint32_t voxel, size_t level) const
+  {
+    return m_Uniform ? 1.0 : static_cast<double>(m_Mu[voxel]) / m_MeanMu[level];
+  }
+  double
+  GetMaximumCorrection() const
+  {
+    return m_MaximumCorrection;
+  }
+  size_t
+  GetSizeInBytes() const;
+
+private:
+  void
+  Group(const DRRAttenuationVolume & volume, const std::vector<uint32_t> & keys, uint32_t numberOfKeys);
+
+  const float *         m_Mu{ nullptr };
+  bool                  m_Uniform{ true };
+  double                m_MaximumCorrection{ 1.0 };
+  double                m_TotalMuSum{ 0.0 };
+  std::vector<uint32_t> m_VoxelIndices; // voxels grouped by level
+  std::vector<uint64_t> m_Start;        // first entry of each level in m_VoxelIndices
+  std::vector<uint32_t> m_Count;
+  std::vector<double>   m_MeanMu;
+  std::vector<double>   m_MuSum;
+};
+} // namespace itk
+
+#endif
