@@ -58,12 +58,10 @@ public:
   Initialize(const DRRAttenuationVolume & volume) override;
 
   void
-  GenerateBatch(DRRPhiloxRandom & random,
-                uint64_t          firstSample,
-                uint64_t          count,
-                uint64_t          totalSamples,
-                uint64_t *        voxelIndex,
-                double *          weight) const override;
+  GenerateBatch(DRRPhiloxRandom &   random,
+                const SampleRange & range,
+                uint64_t *          voxelIndex,
+                double *            weight) const override;
 
   size_t
   GetTableSizeInBytes() const override;

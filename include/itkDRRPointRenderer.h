@@ -34,7 +34,9 @@ namespace itk
  *
  * The estimate of pixel j is L_j = M / (N a) sum_i c_ij, where c_ij is the share of point i in pixel j (its sampler
  * weight times its perspective weight times its splat fraction), M the room attenuation mass and a the pixel area.
- * Its standard error is M / (N a) sqrt(N / (N - 1) (sum c^2 - (sum c)^2 / N)), from the same sums.
+ * Its standard error is M / (N a) sqrt(N / (N - 1) (sum c^2 - (sum c)^2 / N)), from the same sums, for samplers of
+ * independent points; for dependent points (stratified, Markov chains) the N samples form 16 independent strata and
+ * the standard error comes from the spread of their 16 estimates.
  *
  * Reproducibility: the N samples are cut into fixed chunks; chunk k draws from the Philox streams keyed by (seed, k).
  * Every contribution is rounded once to a 64-bit fixed-point integer whose scale is chosen from N and a bound on
@@ -53,6 +55,10 @@ public:
   /** Samples per chunk: the unit of random-stream addressing, work distribution and progress. */
   static constexpr uint64_t SamplesPerChunk = 65536;
 
+  /** Strata (independent replicates of N / 16 samples) of a render by a sampler whose points are dependent, if N is at
+   * least 256. The standard error then comes from the spread of the strata's estimates. */
+  static constexpr uint64_t NumberOfStrata = 16;
+
   struct Settings
   {
     uint64_t      NumberOfSamples{ 0 };
@@ -70,6 +76,7 @@ public:
     double              MinimumDepth{ 0.0 }; // mm; points nearer the source were dropped
     bool                SourceNearVolume{ false };
     uint64_t            PointsOnDetector{ 0 }; // points that landed on the detector (nearest pixel inside)
+    uint64_t            NumberOfStrata{ 1 };   // 1: standard error from the points; more: from the strata
   };
 
   /** Renders. The volume must be the one the sampler was initialized with. Progress goes to progressFilter (may be

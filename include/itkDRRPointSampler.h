@@ -32,9 +32,9 @@ namespace itk
  * integrals (DESIGN section 2). Where inside the voxel the point goes is the reconstruction kernel's business,
  * not the sampler's.
  *
- * Batches are addressed by sample index in [0, total): a sampler may use the index (stratified samplers do) and
- * must draw its random numbers from the stream it is handed, so that results depend on the seed alone, never on
- * threads. GenerateBatch() is const and called concurrently.
+ * Batches are addressed by sample index (SampleRange): a sampler may use the index (stratified samplers do) and must
+ * draw its random numbers from the stream it is handed or from streams keyed by the seed and stratum, so that results
+ * depend on the seed alone, never on threads. GenerateBatch() is const and called concurrently.
  *
  * \ingroup PointBasedDRR
  */
@@ -60,15 +60,30 @@ public:
   /** Largest weight GenerateBatch() can return (1 for exact importance samplers). */
   itkGetConstMacro(MaximumWeight, double);
 
-  /** Fills voxelIndex[0 .. count) (linear index, x fastest) and weight[0 .. count) for the samples
-   * firstSample .. firstSample + count - 1 of totalSamples. */
+  /** Where a batch sits among the samples of a render. The samples [0, N) are cut into strata, independent
+   * replicates of the render (one stratum unless the sampler's points are dependent, see
+   * HasIndependentSamples()); a batch lies inside one stratum. */
+  struct SampleRange
+  {
+    uint64_t Seed{ 0 };
+    uint64_t First{ 0 };        // first sample of the batch
+    uint64_t Count{ 0 };        // samples in the batch
+    uint64_t Stratum{ 0 };      // index of the stratum
+    uint64_t StratumFirst{ 0 }; // first sample of the stratum
+    uint64_t StratumSize{ 0 };  // samples in the stratum
+  };
+
+  /** Fills voxelIndex[0 .. range.Count) (linear index, x fastest) and weight[0 .. range.Count). */
   virtual void
-  GenerateBatch(DRRPhiloxRandom & random,
-                uint64_t          firstSample,
-                uint64_t          count,
-                uint64_t          totalSamples,
-                uint64_t *        voxelIndex,
-                double *          weight) const = 0;
+  GenerateBatch(DRRPhiloxRandom & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const = 0;
+
+  /** True (default) if the points are independent draws: the renderer then estimates the standard error from the
+   * points themselves. False (stratified, Markov chains): from the spread of independent strata. */
+  virtual bool
+  HasIndependentSamples() const
+  {
+    return true;
+  }
 
   /** Bytes held by the sampling tables. */
   virtual size_t

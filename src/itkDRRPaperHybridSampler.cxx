@@ -91,13 +91,12 @@ DRRPaperHybridSampler::Initialize(const DRRAttenuationVolume & volume)
 }
 
 void
-DRRPaperHybridSampler::GenerateBatch(DRRPhiloxRandom & random,
-                                     uint64_t,
-                                     uint64_t count,
-                                     uint64_t,
-                                     uint64_t * voxelIndex,
-                                     double *   weight) const
+DRRPaperHybridSampler::GenerateBatch(DRRPhiloxRandom &   random,
+                                     const SampleRange & range,
+                                     uint64_t *          voxelIndex,
+                                     double *            weight) const
 {
+  const uint64_t count = range.Count;
   const uint32_t levels = static_cast<uint32_t>(m_Levels.GetNumberOfLevels());
   for (uint64_t i = 0; i < count; ++i)
   {

@@ -27,12 +27,57 @@ namespace
 {
 constexpr uint64_t samplesPerBatch = 512;
 
-/** Integer fixed-point accumulators of one worker. */
+/** Integer fixed-point accumulators of one worker: per pixel the sum of contributions of every stratum (stratum
+ * major), and, with a single stratum, the sum of their squares. */
 struct Accumulator
 {
   std::vector<int64_t> Sum;
   std::vector<int64_t> SumOfSquares;
   uint64_t             PointsOnDetector{ 0 };
+};
+
+/** Where one chunk deposits: its stratum's sums, and the squares (null with several strata). */
+struct Target
+{
+  int64_t *  Sum;
+  int64_t *  SumOfSquares;
+  uint64_t * PointsOnDetector;
+};
+
+/** The strata of a render: R runs of consecutive samples, of N / R samples each (up to one). */
+class Strata
+{
+public:
+  Strata(uint64_t numberOfSamples, uint64_t numberOfStrata)
+  {
+    for (uint64_t r = 0; r <= numberOfStrata; ++r)
+    {
+      m_First.push_back(static_cast<uint64_t>((static_cast<unsigned __int128>(numberOfSamples) * r) / numberOfStrata));
+    }
+  }
+  uint64_t
+  GetNumberOfStrata() const
+  {
+    return m_First.size() - 1;
+  }
+  uint64_t
+  StratumOfSample(uint64_t sample) const
+  {
+    return static_cast<uint64_t>(std::upper_bound(m_First.begin(), m_First.end(), sample) - m_First.begin()) - 1;
+  }
+  uint64_t
+  FirstSample(uint64_t stratum) const
+  {
+    return m_First[stratum];
+  }
+  uint64_t
+  Size(uint64_t stratum) const
+  {
+    return m_First[stratum + 1] - m_First[stratum];
+  }
+
+private:
+  std::vector<uint64_t> m_First;
 };
 
 /** Largest k with count * bound * 2^k <= 2^62, so that no sum of count contributions <= bound overflows. */
@@ -71,19 +116,29 @@ public:
   {}
 
   void
-  Render(uint64_t chunk, Accumulator & accumulator) const
+  Render(uint64_t chunk, const Strata & strata, Accumulator & accumulator) const
   {
-    const uint64_t  first = chunk * DRRPointRenderer::SamplesPerChunk;
-    const uint64_t  end = std::min(first + DRRPointRenderer::SamplesPerChunk, m_Settings.NumberOfSamples);
+    const uint64_t  pixels = static_cast<uint64_t>(m_Columns * m_Rows);
+    const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, m_Settings.NumberOfSamples);
     DRRPhiloxRandom samplerStream(m_Settings.Seed, chunk, 0);
     DRRPhiloxRandom kernelStream(m_Settings.Seed, chunk, 1);
     uint64_t        voxels[samplesPerBatch];
     double          weights[samplesPerBatch];
-    for (uint64_t batchStart = first; batchStart < end; batchStart += samplesPerBatch)
+    DRRPointSampler::SampleRange range;
+    range.Seed = m_Settings.Seed;
+    for (range.First = chunk * DRRPointRenderer::SamplesPerChunk; range.First < end; range.First += range.Count)
     {
-      const uint64_t count = std::min(samplesPerBatch, end - batchStart);
-      m_Sampler.GenerateBatch(samplerStream, batchStart, count, m_Settings.NumberOfSamples, voxels, weights);
-      for (uint64_t i = 0; i < count; ++i)
+      // A batch never straddles two strata.
+      range.Stratum = strata.StratumOfSample(range.First);
+      range.StratumFirst = strata.FirstSample(range.Stratum);
+      range.StratumSize = strata.Size(range.Stratum);
+      range.Count =
+        std::min({ samplesPerBatch, end - range.First, range.StratumFirst + range.StratumSize - range.First });
+      const Target target{ accumulator.Sum.data() + (strata.GetNumberOfStrata() > 1 ? range.Stratum * pixels : 0),
+                           accumulator.SumOfSquares.empty() ? nullptr : accumulator.SumOfSquares.data(),
+                           &accumulator.PointsOnDetector };
+      m_Sampler.GenerateBatch(samplerStream, range, voxels, weights);
+      for (uint64_t i = 0; i < range.Count; ++i)
       {
         double point[3];
         this->PlaceInVoxel(voxels[i], kernelStream.Next(), point);
@@ -94,7 +149,7 @@ public:
         }
         const double weight =
           weights[i] * (m_Settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased ? perspectiveWeight : 1.0);
-        this->Splat(column, row, weight, accumulator);
+        this->Splat(column, row, weight, target);
       }
     }
   }
@@ -117,14 +172,17 @@ private:
   }
 
   void
-  Deposit(int64_t pixel, double contribution, Accumulator & accumulator) const
+  Deposit(int64_t pixel, double contribution, const Target & target) const
   {
-    accumulator.Sum[pixel] += std::llrint(contribution * m_SumScale);
-    accumulator.SumOfSquares[pixel] += std::llrint(contribution * contribution * m_SquareScale);
+    target.Sum[pixel] += std::llrint(contribution * m_SumScale);
+    if (target.SumOfSquares)
+    {
+      target.SumOfSquares[pixel] += std::llrint(contribution * contribution * m_SquareScale);
+    }
   }
 
   void
-  Splat(double column, double row, double weight, Accumulator & accumulator) const
+  Splat(double column, double row, double weight, const Target & target) const
   {
     if (m_Settings.Splat == PointBasedDRREnums::Splat::Nearest)
     {
@@ -132,8 +190,8 @@ private:
       const double r = std::floor(row + 0.5);
       if (c >= 0.0 && r >= 0.0 && c < static_cast<double>(m_Columns) && r < static_cast<double>(m_Rows))
       {
-        this->Deposit(static_cast<int64_t>(c) + m_Columns * static_cast<int64_t>(r), weight, accumulator);
-        ++accumulator.PointsOnDetector;
+        this->Deposit(static_cast<int64_t>(c) + m_Columns * static_cast<int64_t>(r), weight, target);
+        ++*target.PointsOnDetector;
       }
       return;
     }
@@ -155,11 +213,11 @@ private:
       const int64_t pr = ir + (corner >> 1);
       if (pc >= 0 && pr >= 0 && pc < m_Columns && pr < m_Rows && shares[corner] > 0.0)
       {
-        this->Deposit(pc + m_Columns * pr, weight * shares[corner], accumulator);
+        this->Deposit(pc + m_Columns * pr, weight * shares[corner], target);
         landed = true;
       }
     }
-    accumulator.PointsOnDetector += landed ? 1 : 0;
+    *target.PointsOnDetector += landed ? 1 : 0;
   }
 
   const DRRPointSampler &            m_Sampler;
@@ -238,38 +296,70 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   const ChunkRenderer chunkRenderer(
     volume, sampler, projection, settings, std::ldexp(1.0, sumExponent), std::ldexp(1.0, squareExponent));
 
-  const uint64_t           numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
+  const uint64_t numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
+  // Dependent points (stratified, Markov chains): independent strata, whose spread gives the standard error.
+  const bool     useStrata = !sampler.HasIndependentSamples() && settings.NumberOfSamples >= 16 * NumberOfStrata;
+  const Strata   strata(settings.NumberOfSamples, useStrata ? NumberOfStrata : 1);
+  const uint64_t numberOfStrata = strata.GetNumberOfStrata();
   std::vector<Accumulator> accumulators(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
   for (Accumulator & accumulator : accumulators)
   {
-    accumulator.Sum.assign(numberOfPixels, 0);
-    accumulator.SumOfSquares.assign(numberOfPixels, 0);
+    accumulator.Sum.assign(numberOfPixels * numberOfStrata, 0);
+    if (numberOfStrata == 1)
+    {
+      accumulator.SumOfSquares.assign(numberOfPixels, 0);
+    }
   }
   DRRWorkScheduler::Run(
     threader,
     numberOfChunks,
-    [&](unsigned int worker, uint64_t chunk) { chunkRenderer.Render(chunk, accumulators[worker]); },
+    [&](unsigned int worker, uint64_t chunk) { chunkRenderer.Render(chunk, strata, accumulators[worker]); },
     progressFilter);
 
   // Integer reduction: exact, hence independent of the order and of the worker that held each chunk.
-  const double valueScale = result.RoomMass / (N * projection.GetPixelArea());
-  const double inverseSumScale = std::ldexp(1.0, -sumExponent);
-  const double inverseSquareScale = std::ldexp(1.0, -squareExponent);
+  const double        valueScale = result.RoomMass / (N * projection.GetPixelArea());
+  const double        inverseSumScale = std::ldexp(1.0, -sumExponent);
+  const double        inverseSquareScale = std::ldexp(1.0, -squareExponent);
+  std::vector<double> stratumSums(numberOfStrata);
   for (size_t p = 0; p < numberOfPixels; ++p)
   {
-    int64_t sum = 0;
-    int64_t sumOfSquares = 0;
-    for (const Accumulator & accumulator : accumulators)
+    double s = 0.0;
+    for (uint64_t r = 0; r < numberOfStrata; ++r)
     {
-      sum += accumulator.Sum[p];
-      sumOfSquares += accumulator.SumOfSquares[p];
+      int64_t sum = 0;
+      for (const Accumulator & accumulator : accumulators)
+      {
+        sum += accumulator.Sum[r * numberOfPixels + p];
+      }
+      stratumSums[r] = static_cast<double>(sum) * inverseSumScale;
+      s += stratumSums[r];
     }
-    const double s = static_cast<double>(sum) * inverseSumScale;
-    const double s2 = static_cast<double>(sumOfSquares) * inverseSquareScale;
     result.LineIntegral[p] = valueScale * s;
-    const double variance = settings.NumberOfSamples > 1 ? N / (N - 1.0) * std::max(0.0, s2 - s * s / N) : s2;
-    result.StandardError[p] = valueScale * std::sqrt(variance);
+    if (numberOfStrata == 1)
+    {
+      int64_t sumOfSquares = 0;
+      for (const Accumulator & accumulator : accumulators)
+      {
+        sumOfSquares += accumulator.SumOfSquares[p];
+      }
+      const double s2 = static_cast<double>(sumOfSquares) * inverseSquareScale;
+      const double variance = settings.NumberOfSamples > 1 ? N / (N - 1.0) * std::max(0.0, s2 - s * s / N) : s2;
+      result.StandardError[p] = valueScale * std::sqrt(variance);
+    }
+    else
+    {
+      // Each stratum is an independent estimate L_r = M / (n_r a) S_r of the same image; the variance of their
+      // combination is estimated from their spread.
+      double squaredDeviations = 0.0;
+      for (uint64_t r = 0; r < numberOfStrata; ++r)
+      {
+        const double estimate = result.RoomMass / (strata.Size(r) * projection.GetPixelArea()) * stratumSums[r];
+        squaredDeviations += (estimate - result.LineIntegral[p]) * (estimate - result.LineIntegral[p]);
+      }
+      result.StandardError[p] = std::sqrt(squaredDeviations / (numberOfStrata * (numberOfStrata - 1.0)));
+    }
   }
+  result.NumberOfStrata = numberOfStrata;
   for (const Accumulator & accumulator : accumulators)
   {
     result.PointsOnDetector += accumulator.PointsOnDetector;

@@ -18,6 +18,7 @@
 #include "itkDRRSamplerFactory.h"
 #include "itkDRRLevelAliasSampler.h"
 #include "itkDRRPaperHybridSampler.h"
+#include "itkDRRStratifiedSampler.h"
 #include "itkDRRUniformVolumeSampler.h"
 
 namespace itk
@@ -42,6 +43,9 @@ DRRSamplerFactory::GetEntries()
     { "paper-hybrid",
       "the paper's Algorithm 1 (uniform level, accept p(l), Russian roulette), exact weights",
       &Make<DRRPaperHybridSampler> },
+    { "stratified",
+      "systematic sampling of the mass along a Morton curve: even spread, unbiased, beyond the paper",
+      &Make<DRRStratifiedSampler> },
     { "mcvr", "Monte Carlo volume rendering baseline: uniform voxels weighted by mu", &Make<DRRUniformVolumeSampler> },
   };
   return entries;

@@ -36,13 +36,12 @@ DRRUniformVolumeSampler::Initialize(const DRRAttenuationVolume & volume)
 }
 
 void
-DRRUniformVolumeSampler::GenerateBatch(DRRPhiloxRandom & random,
-                                       uint64_t,
-                                       uint64_t count,
-                                       uint64_t,
-                                       uint64_t * voxelIndex,
-                                       double *   weight) const
+DRRUniformVolumeSampler::GenerateBatch(DRRPhiloxRandom &   random,
+                                       const SampleRange & range,
+                                       uint64_t *          voxelIndex,
+                                       double *            weight) const
 {
+  const uint64_t count = range.Count;
   for (uint64_t i = 0; i < count; ++i)
   {
     const DRRPhiloxRandom::BlockType bits = random.Next();
