@@ -18,6 +18,7 @@
 #ifndef itkDRRLevelAliasSampler_h
 #define itkDRRLevelAliasSampler_h
 
+#include "itkDRRAliasTable.h"
 #include "itkDRRAttenuationLevels.h"
 #include "itkDRRPointSampler.h"
 
@@ -80,13 +81,9 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  void
-  BuildAliasTable(const std::vector<double> & levelMass);
-
-  unsigned int          m_NumberOfBins{ 4096 };
-  DRRAttenuationLevels  m_Levels;
-  std::vector<uint32_t> m_AliasThreshold; // accept bucket b if random32 < threshold[b]
-  std::vector<uint32_t> m_Alias;
+  unsigned int         m_NumberOfBins{ 4096 };
+  DRRAttenuationLevels m_Levels;
+  DRRAliasTable        m_AliasTable;
 };
 } // namespace itk
 

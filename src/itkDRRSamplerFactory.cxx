@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkDRRSamplerFactory.h"
 #include "itkDRRLevelAliasSampler.h"
+#include "itkDRRMetropolisSampler.h"
 #include "itkDRRPaperHybridSampler.h"
 #include "itkDRRStratifiedSampler.h"
 #include "itkDRRUniformVolumeSampler.h"
@@ -43,6 +44,9 @@ DRRSamplerFactory::GetEntries()
     { "paper-hybrid",
       "the paper's Algorithm 1 (uniform level, accept p(l), Russian roulette), exact weights",
       &Make<DRRPaperHybridSampler> },
+    { "metropolis",
+      "the paper's Markov chain over levels (section 2.2.2), started in its stationary law",
+      &Make<DRRMetropolisSampler> },
     { "stratified",
       "systematic sampling of the mass along a Morton curve: even spread, unbiased, beyond the paper",
       &Make<DRRStratifiedSampler> },

@@ -376,7 +376,7 @@ AllScenarios()
   }
   scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Nearest, true, false });
   scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Bilinear, false, true });
-  for (const char * sampler : { "paper-hybrid", "mcvr", "stratified" })
+  for (const char * sampler : { "paper-hybrid", "mcvr", "stratified", "metropolis" })
   {
     scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false, sampler });
     scenarios.push_back({ ProjectionEnum::Parallel, KernelEnum::Box, SplatEnum::Nearest, false, false, sampler });

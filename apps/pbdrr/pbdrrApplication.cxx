@@ -20,6 +20,7 @@
 
 #include "itkCommand.h"
 #include "itkExactDRRImageFilter.h"
+#include "itkDRRMetropolisSampler.h"
 #include "itkDRRPaperHybridSampler.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkImageFileWriter.h"
@@ -554,6 +555,16 @@ Run(const Options & options)
                 << ", kernel " << options.kernel << ", splat " << options.splat << ", attenuation mass M "
                 << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
                 << std::endl;
+      if (const auto * chain = dynamic_cast<const itk::DRRMetropolisSampler *>(pointBased->GetSampler()))
+      {
+        std::cerr << "pbdrr: metropolis chain: acceptance rate " << chain->GetAcceptanceRate()
+                  << ", integrated autocorrelation time " << chain->GetAutocorrelationTime()
+                  << " (points needed relative to independent sampling)" << std::endl;
+      }
+      if (const auto * hybrid = dynamic_cast<const itk::DRRPaperHybridSampler *>(pointBased->GetSampler()))
+      {
+        std::cerr << "pbdrr: paper-hybrid: " << hybrid->GetAttemptsPerPoint() << " attempts per point" << std::endl;
+      }
     }
     for (const auto & note : notes)
     {

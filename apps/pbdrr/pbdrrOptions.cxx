@@ -300,8 +300,9 @@ Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = 
 Rendering:
   --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default 10M)
   --sampler NAME         level-alias (default: exact importance sampling by attenuation level, O(1) per point),
-                         paper-hybrid (the paper's Algorithm 1 with exact weights), mcvr (uniform voxels weighted
-                         by mu, the Monte Carlo volume rendering baseline)
+                         paper-hybrid (the paper's Algorithm 1 with exact weights), metropolis (the paper's
+                         chain over levels), stratified (systematic along a Morton curve: least noise),
+                         mcvr (uniform voxels weighted by mu, the Monte Carlo volume rendering baseline)
   --kernel box|tent      voxel model: box (piecewise constant, default) or tent (trilinear)
   --splat nearest|bilinear
   --seed S               random seed (default 0): the same seed gives the same image on any thread count

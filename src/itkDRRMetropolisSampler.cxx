@@ -1,0 +1,117 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRMetropolisSampler.h"
+
+#include <cmath>
+
+namespace itk
+{
+void
+DRRMetropolisSampler::Initialize(const DRRAttenuationVolume & volume)
+{
+  m_Levels.Build(volume, m_NumberOfBins);
+  std::vector<double> levelMass(m_Levels.GetNumberOfLevels());
+  for (size_t l = 0; l < levelMass.size(); ++l)
+  {
+    levelMass[l] = m_Levels.GetMuSum(l);
+  }
+  m_AliasTable.Build(levelMass);
+  m_TotalMass = m_Levels.GetTotalMuSum() * volume.GetVoxelVolume();
+  m_MaximumWeight = m_Levels.GetMaximumCorrection();
+  this->MeasureChain();
+  this->Modified();
+}
+
+void
+DRRMetropolisSampler::MeasureChain()
+{
+  // Batch means: with B batches of b steps of f = mean mu of the level, tau = b Var(batch means) / Var(f).
+  m_AutocorrelationTime = 1.0;
+  m_AcceptanceRate = 1.0;
+  if (m_Levels.GetNumberOfLevels() < 2)
+  {
+    return;
+  }
+  const uint64_t  batches = 256;
+  const uint64_t  batchLength = 4096;
+  DRRPhiloxRandom random(0, ~uint64_t{ 0 }, 3);
+  auto            start = random.Next();
+  uint32_t        level = m_AliasTable.Draw(start[0], start[1]);
+  double          sum = 0.0, sumOfSquares = 0.0, batchMeanSum = 0.0, batchMeanSquares = 0.0;
+  uint64_t        accepted = 0;
+  for (uint64_t b = 0; b < batches; ++b)
+  {
+    double batchSum = 0.0;
+    for (uint64_t i = 0; i < batchLength; ++i)
+    {
+      const uint32_t next = this->Step(level, random.Next());
+      accepted += next != level ? 1 : 0;
+      level = next;
+      const double f = m_Levels.GetMeanMu(level);
+      batchSum += f;
+      sum += f;
+      sumOfSquares += f * f;
+    }
+    const double batchMean = batchSum / batchLength;
+    batchMeanSum += batchMean;
+    batchMeanSquares += batchMean * batchMean;
+  }
+  const double n = static_cast<double>(batches * batchLength);
+  const double variance = (sumOfSquares - sum * sum / n) / (n - 1.0);
+  const double batchVariance = (batchMeanSquares - batchMeanSum * batchMeanSum / batches) / (batches - 1.0);
+  m_AutocorrelationTime = variance > 0.0 ? batchLength * batchVariance / variance : 1.0;
+  m_AcceptanceRate = static_cast<double>(accepted) / n;
+}
+
+void
+DRRMetropolisSampler::GenerateBatch(DRRPhiloxRandom &   random,
+                                    const SampleRange & range,
+                                    uint64_t *          voxelIndex,
+                                    double *            weight) const
+{
+  if (m_Levels.GetNumberOfLevels() == 0)
+  {
+    return;
+  }
+  const DRRPhiloxRandom::BlockType start = random.Next();
+  uint32_t                         level = m_AliasTable.Draw(start[0], start[1]);
+  for (unsigned int i = 0; i < m_BurnIn; ++i)
+  {
+    level = this->Step(level, random.Next());
+  }
+  for (uint64_t i = 0; i < range.Count; ++i)
+  {
+    const DRRPhiloxRandom::BlockType bits = random.Next();
+    level = this->Step(level, bits);
+    const uint32_t voxel =
+      m_Levels.GetVoxel(level, DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(level)));
+    voxelIndex[i] = voxel;
+    weight[i] = m_Levels.GetCorrection(voxel, level);
+  }
+}
+
+void
+DRRMetropolisSampler::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "BurnIn: " << m_BurnIn << std::endl;
+  os << indent << "NumberOfLevels: " << m_Levels.GetNumberOfLevels() << std::endl;
+  os << indent << "AcceptanceRate: " << m_AcceptanceRate << std::endl;
+  os << indent << "AutocorrelationTime: " << m_AutocorrelationTime << std::endl;
+}
+} // namespace itk
