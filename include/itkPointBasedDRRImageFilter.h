@@ -108,6 +108,16 @@ public:
   void
   PrepareSampling();
 
+  /** Progressive refinement: renders additionalSamples more points as an independent pass (its seed derived from
+   * Seed and the pass number) and updates both outputs in place with the combined estimate: the sample-weighted mean
+   * of the passes and its standard error. Works with every sampler. Throws if nothing was rendered yet, or if the
+   * filter, its input, geometry, transform or sampler changed since (call Update() first). */
+  void
+  Refine(uint64_t additionalSamples);
+
+  /** Points behind the current outputs: NumberOfSamples plus every refinement since the last Update(). */
+  itkGetConstMacro(TotalNumberOfSamples, uint64_t);
+
   /** Statistics of the last render. */
   itkGetConstMacro(TotalMass, double);
   itkGetConstMacro(PointsOnDetector, uint64_t);
@@ -121,6 +131,10 @@ protected:
 
   void
   GenerateData() override;
+
+  /** Renders one pass of samples points with the seed of pass number `pass`. */
+  DRRPointRenderer::Result
+  RenderPass(uint64_t samples, unsigned int pass);
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
@@ -135,6 +149,12 @@ private:
   ModifiedTimeType              m_SamplerVolumeTime{ 0 };
   ModifiedTimeType              m_SamplerTime{ 0 };
   double                        m_TotalMass{ 0.0 };
+  uint64_t                      m_TotalNumberOfSamples{ 0 };
+  unsigned int                  m_NumberOfPasses{ 0 };
+  ModifiedTimeType              m_RenderedTime{ 0 };
+  ModifiedTimeType              m_RenderedInputTime{ 0 };
+  std::vector<double>           m_WeightedEstimateSum; // sum over passes of N_k L_k, per pixel
+  std::vector<double>           m_WeightedVarianceSum; // sum over passes of N_k^2 SE_k^2, per pixel
   uint64_t                      m_PointsOnDetector{ 0 };
 };
 } // namespace itk

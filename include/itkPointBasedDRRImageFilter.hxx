@@ -62,25 +62,32 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
 }
 
 template <typename TInputImage, typename TOutputImage>
-void
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
+DRRPointRenderer::Result
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples, unsigned int pass)
 {
-  if (m_NumberOfSamples == 0)
+  if (samples == 0)
   {
     itkExceptionMacro("the number of samples must be at least 1");
   }
   this->PrepareSampling();
-  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
-
   DRRPointRenderer::Settings settings;
-  settings.NumberOfSamples = m_NumberOfSamples;
-  settings.Seed = m_Seed;
+  settings.NumberOfSamples = samples;
+  // Pass 0 is keyed by the seed itself; later passes by a SplitMix64 mix of seed and pass, so streams never repeat.
+  uint64_t seed = m_Seed;
+  if (pass > 0)
+  {
+    seed += 0x9E3779B97F4A7C15ull * pass;
+    seed = (seed ^ (seed >> 30)) * 0xBF58476D1CE4E5B9ull;
+    seed = (seed ^ (seed >> 27)) * 0x94D049BB133111EBull;
+    seed ^= seed >> 31;
+  }
+  settings.Seed = seed;
   settings.Kernel = m_ReconstructionKernel;
   settings.Splat = m_Splat;
   settings.Weighting = m_PointWeighting;
   this->UpdateProgress(0.0f);
-  const DRRPointRenderer::Result result =
-    DRRPointRenderer::Render(*volume, *m_Sampler, this->MakeProjection(), settings, this->GetMultiThreader(), this);
+  const DRRPointRenderer::Result result = DRRPointRenderer::Render(
+    *this->GetAttenuationVolume(), *m_Sampler, this->MakeProjection(), settings, this->GetMultiThreader(), this);
   if (result.SourceNearVolume)
   {
     itkWarningMacro("the volume reaches within " << result.MinimumDepth
@@ -89,8 +96,62 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
                                                     "are very large and the standard error is unreliable there");
   }
   m_TotalMass = result.RoomMass;
+  return result;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
+{
+  const DRRPointRenderer::Result result = this->RenderPass(m_NumberOfSamples, 0);
+  const double                   n = static_cast<double>(m_NumberOfSamples);
+  m_WeightedEstimateSum.resize(result.LineIntegral.size());
+  m_WeightedVarianceSum.resize(result.LineIntegral.size());
+  for (size_t p = 0; p < result.LineIntegral.size(); ++p)
+  {
+    m_WeightedEstimateSum[p] = n * result.LineIntegral[p];
+    m_WeightedVarianceSum[p] = n * n * result.StandardError[p] * result.StandardError[p];
+  }
+  m_TotalNumberOfSamples = m_NumberOfSamples;
+  m_NumberOfPasses = 1;
   m_PointsOnDetector = result.PointsOnDetector;
+  m_RenderedTime = this->GetMTime();
+  m_RenderedInputTime = this->GetInput()->GetMTime();
   this->WriteOutputs(result.LineIntegral, &result.StandardError);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::Refine(uint64_t additionalSamples)
+{
+  if (m_NumberOfPasses == 0 || !this->GetInput())
+  {
+    itkExceptionMacro("Refine() adds to a render: call Update() first");
+  }
+  if (this->GetMTime() != m_RenderedTime || this->GetInput()->GetMTime() != m_RenderedInputTime)
+  {
+    itkExceptionMacro("the filter, its input, geometry, transform or sampler changed since the last Update(): call "
+                      "Update() before Refine()");
+  }
+  const DRRPointRenderer::Result result = this->RenderPass(additionalSamples, m_NumberOfPasses);
+  const double                   n = static_cast<double>(additionalSamples);
+  m_TotalNumberOfSamples += additionalSamples;
+  ++m_NumberOfPasses;
+  m_PointsOnDetector += result.PointsOnDetector;
+  const double        total = static_cast<double>(m_TotalNumberOfSamples);
+  std::vector<double> estimate(result.LineIntegral.size());
+  std::vector<double> standardError(result.LineIntegral.size());
+  for (size_t p = 0; p < estimate.size(); ++p)
+  {
+    m_WeightedEstimateSum[p] += n * result.LineIntegral[p];
+    m_WeightedVarianceSum[p] += n * n * result.StandardError[p] * result.StandardError[p];
+    estimate[p] = m_WeightedEstimateSum[p] / total;
+    standardError[p] = std::sqrt(m_WeightedVarianceSum[p]) / total;
+  }
+  this->WriteOutputs(estimate, &standardError);
+  this->GetOutput(0)->Modified();
+  this->GetOutput(1)->Modified();
   this->UpdateProgress(1.0f);
 }
 
@@ -107,6 +168,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
   os << indent << "PointsOnDetector: " << m_PointsOnDetector << std::endl;
+  os << indent << "TotalNumberOfSamples: " << m_TotalNumberOfSamples << std::endl;
 }
 } // namespace itk
 

@@ -88,13 +88,14 @@ struct Scenario
   bool           muInput;   // float input, mu per voxel continuous: binned levels with correction weights
   bool           transform; // an anisotropic affine transform between room and volume
   std::string    sampler{ "level-alias" };
+  uint64_t       refine{ 0 }; // points added by Refine() after Update()
 };
 
 std::ostream &
 operator<<(std::ostream & os, const Scenario & s)
 {
-  return os << s.sampler << "/" << s.projection << "/" << s.kernel << "/" << s.splat << (s.muInput ? "/mu-input" : "")
-            << (s.transform ? "/affine" : "");
+  return os << s.sampler << (s.refine ? "+refine" : "") << "/" << s.projection << "/" << s.kernel << "/" << s.splat
+            << (s.muInput ? "/mu-input" : "") << (s.transform ? "/affine" : "");
 }
 
 itk::DRRProjectionGeometry::Pointer
@@ -262,6 +263,11 @@ RenderSeeds(const TVolume *              volume,
   {
     drr->SetSeed(1000 + seed);
     drr->Update();
+    if (scenario.refine > 0)
+    {
+      drr->Refine(scenario.refine);
+      drr->Refine(scenario.refine / 2);
+    }
     const auto values = ToVector(drr->GetOutput());
     const auto errors = ToVector(drr->GetStandardErrorOutput());
     for (size_t p = 0; p < pixels; ++p)
@@ -340,8 +346,10 @@ CheckUnbiased(const Scenario & scenario)
   }
   EXPECT_GE(pixelsWithConvergedReference, 0.9 * pixelsWithSignal) << scenario << ": reference not converged";
   EXPECT_LT(worstZ, zBound) << scenario << ": the mean over seeds is off the exact reference";
-  // Pooled over pixels, the variance ratio is known to sqrt(2 / ((seeds - 1) pixels)).
-  EXPECT_NEAR(observed / predicted, 1.0, zBound * std::sqrt(2.0 / ((seeds - 1.0) * pixelsWithSignal)))
+  // Pooled over pixels, the variance ratio is known to sqrt(2 / ((seeds - 1) pixels)) if the pixels are independent;
+  // a bilinear splat shares every point among 4 pixels, leaving about a quarter as many independent ones.
+  const double independentPixels = pixelsWithSignal / (scenario.splat == SplatEnum::Bilinear ? 4.0 : 1.0);
+  EXPECT_NEAR(observed / predicted, 1.0, zBound * std::sqrt(2.0 / ((seeds - 1.0) * independentPixels)))
     << scenario << ": the standard-error output does not predict the spread";
   EXPECT_GT(pixelsWithSignal, reference.size() / 2);
   testing::Test::RecordProperty("worst_z", std::to_string(worstZ));
@@ -383,6 +391,10 @@ AllScenarios()
   }
   scenarios.push_back(
     { ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, true, false, "paper-hybrid" });
+  scenarios.push_back(
+    { ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false, "level-alias", 100000 });
+  scenarios.push_back(
+    { ProjectionEnum::Parallel, KernelEnum::Box, SplatEnum::Nearest, false, false, "stratified", 100000 });
   return scenarios;
 }
 
@@ -479,8 +491,9 @@ TEST(PointBasedDRRPaperHybrid, UnweightedCountIsBiasedAndTheBiasIsMeasured)
 TEST(PointBasedDRRStandardError, PredictsTheSpreadOfManySeedsToFivePercent)
 {
   // 768 cheap renders: the pooled ratio of observed to predicted variance is known to 5 sigma = 5 sqrt(2 / (767 P)),
-  // about 4% here, so a standard-error formula off by 5% in variance fails.
-  const Scenario     scenario{ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false };
+  // about 4% here (nearest splat: the pixels are independent but for the multinomial's slight negative correlation),
+  // so a standard-error formula off by 5% in variance fails.
+  const Scenario     scenario{ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Nearest, false, false };
   const auto         volume = MakePhantom<HUVolumeType>(false);
   auto               geometry = MakeGeometry(scenario.projection, 8, 6, 7.0, 8.0);
   ReferenceBuilder   builder(scenario, 8, 6, 7.0, 8.0);
@@ -677,6 +690,38 @@ TEST(PointBasedDRRProgress, EventsFireDuringTheRenderOnThePipelineThread)
     ASSERT_FALSE(seen.empty());
     EXPECT_EQ(seen.back(), 1.0f);
   }
+}
+
+TEST(PointBasedDRRRefine, IsReproducibleCountsItsPointsAndRefusesStaleSettings)
+{
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  auto       render = [&](unsigned int threads) {
+    auto drr = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>::New();
+    drr->SetInput(volume);
+    drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0));
+    drr->SetNumberOfSamples(100000);
+    drr->SetNumberOfWorkUnits(threads);
+    drr->Update();
+    drr->Refine(70000);
+    EXPECT_EQ(drr->GetTotalNumberOfSamples(), 170000u);
+    return std::make_pair(ToVector(drr->GetOutput()), ToVector(drr->GetStandardErrorOutput()));
+  };
+  EXPECT_EQ(render(1), render(3));
+
+  auto drr = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0));
+  EXPECT_THROW(drr->Refine(1000), itk::ExceptionObject) << "nothing rendered yet";
+  drr->Update();
+  const auto before = ToVector(drr->GetStandardErrorOutput());
+  drr->Refine(3 * drr->GetNumberOfSamples());
+  const auto after = ToVector(drr->GetStandardErrorOutput());
+  // Four times the points: half the standard error (within the noise of the estimates themselves).
+  const double ratio =
+    std::accumulate(after.begin(), after.end(), 0.0) / std::accumulate(before.begin(), before.end(), 0.0);
+  EXPECT_NEAR(ratio, 0.5, 0.05);
+  drr->GetGeometry()->SetGantryAngleInDegrees(31.0);
+  EXPECT_THROW(drr->Refine(1000), itk::ExceptionObject) << "the geometry changed since Update()";
 }
 
 TEST(PointBasedDRRRandom, PhiloxMatchesRandom123KnownAnswers)
