@@ -19,11 +19,15 @@
 // several sample counts and for the exact projectors. Prints a Markdown table.
 //
 //   PointBasedDRRAccuracy CT_DIR_OR_FILE [cols] [spacing_mm] [gantry_deg] [reference_rays_per_side] [runs]
+//                         [sampler,sampler,...] [box|tent|both]
 //
 // Geometry: SAD 1000 mm, SID 1500 mm, isocenter at the volume centre, square detector.
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkExactDRRImageFilter.h"
 #include "pbdrrVolumeLoader.h"
+#include "itkDRRSamplerFactory.h"
+
+#include <sstream>
 
 #include <algorithm>
 #include <chrono>
@@ -100,6 +104,25 @@ main(int argc, char * argv[])
   const double       gantry = argc > 4 ? std::stod(argv[4]) : 90.0;
   const unsigned int referenceRays = argc > 5 ? std::stoul(argv[5]) : 8;
   const unsigned int runs = argc > 6 ? std::stoul(argv[6]) : 3;
+  // Samplers to measure: a comma-separated list, or every registered one.
+  std::vector<std::string> samplers;
+  for (const auto & entry : itk::DRRSamplerFactory::GetEntries())
+  {
+    samplers.push_back(entry.Name);
+  }
+  if (argc > 7)
+  {
+    samplers.clear();
+    std::stringstream list(argv[7]);
+    for (std::string name; std::getline(list, name, ',');)
+    {
+      samplers.push_back(name);
+    }
+  }
+  const std::vector<KernelEnum> kernels =
+    argc > 8 && std::string(argv[8]) == "box"    ? std::vector<KernelEnum>{ KernelEnum::Box }
+    : argc > 8 && std::string(argv[8]) == "tent" ? std::vector<KernelEnum>{ KernelEnum::Tent }
+                                                 : std::vector<KernelEnum>{ KernelEnum::Box, KernelEnum::Tent };
   try
   {
     auto                            start = std::chrono::steady_clock::now();
@@ -130,7 +153,7 @@ main(int argc, char * argv[])
     std::cout << "| method | kernel | samples or rays/pixel | wall time (s) | NRMSE (range) | RMSE / mean | max error "
                  "(range) | sum ratio |\n|---|---|---|---|---|---|---|---|\n";
     std::cout << std::setprecision(4);
-    for (KernelEnum kernel : { KernelEnum::Box, KernelEnum::Tent })
+    for (KernelEnum kernel : kernels)
     {
       const char * kernelName = kernel == KernelEnum::Box ? "box (Siddon)" : "tent (trilinear)";
       auto         reference = ExactType::New();
@@ -158,24 +181,29 @@ main(int argc, char * argv[])
         std::cout << "| exact | " << kernelName << " | " << rays * rays << " | " << seconds << " | " << e.Nrmse << " | "
                   << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
       }
-      auto drr = PointType::New();
-      drr->SetInput(volume);
-      drr->SetGeometry(geometry);
-      drr->SetReconstructionKernel(kernel);
-      drr->SetNumberOfSamples(1);
-      start = std::chrono::steady_clock::now();
-      drr->Update();
-      const double preprocessSeconds = Seconds(start);
-      std::cout << "| point-based preprocessing (HU->mu, levels, alias table) | " << kernelName << " | | "
-                << preprocessSeconds << " | | | | |\n";
-      for (double samples : { 1e6, 1e7, 1e8 })
+      for (const std::string & samplerName : samplers)
       {
-        drr->SetNumberOfSamples(static_cast<uint64_t>(samples));
-        drr->SetSeed(1);
-        const double seconds = MedianSeconds(drr.GetPointer(), runs);
-        const Errors e = Compare(drr->GetOutput(), truth);
-        std::cout << "| point-based, level-alias | " << kernelName << " | " << samples << " | " << seconds << " | "
-                  << e.Nrmse << " | " << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
+        auto drr = PointType::New();
+        drr->SetInput(volume);
+        drr->SetGeometry(geometry);
+        drr->SetReconstructionKernel(kernel);
+        drr->SetSampler(itk::DRRSamplerFactory::Create(samplerName));
+        drr->SetNumberOfSamples(1);
+        start = std::chrono::steady_clock::now();
+        drr->Update();
+        const double preprocessSeconds = Seconds(start);
+        std::cout << "| " << samplerName << ": preprocessing (HU->mu, sampling tables: "
+                  << drr->GetSampler()->GetTableSizeInBytes() / 1048576.0 << " MiB) | " << kernelName << " | | "
+                  << preprocessSeconds << " | | | | |\n";
+        for (double samples : { 1e6, 1e7, 1e8 })
+        {
+          drr->SetNumberOfSamples(static_cast<uint64_t>(samples));
+          drr->SetSeed(1);
+          const double seconds = MedianSeconds(drr.GetPointer(), runs);
+          const Errors e = Compare(drr->GetOutput(), truth);
+          std::cout << "| " << samplerName << " | " << kernelName << " | " << samples << " | " << seconds << " | "
+                    << e.Nrmse << " | " << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
+        }
       }
     }
   }

@@ -55,9 +55,9 @@ public:
   /** Samples per chunk: the unit of random-stream addressing, work distribution and progress. */
   static constexpr uint64_t SamplesPerChunk = 65536;
 
-  /** Strata (independent replicates of N / 16 samples) of a render by a sampler whose points are dependent, if N is at
-   * least 256. The standard error then comes from the spread of the strata's estimates. */
-  static constexpr uint64_t NumberOfStrata = 16;
+  /** Default number of strata (independent replicates of N / R samples) of a render by a sampler whose points are
+   * dependent. The standard error then comes from the spread of the strata's estimates. */
+  static constexpr uint64_t DefaultNumberOfStrata = 16;
 
   struct Settings
   {
@@ -66,6 +66,7 @@ public:
     KernelEnum    Kernel{ KernelEnum::Box };
     SplatEnum     Splat{ SplatEnum::Nearest };
     WeightingEnum Weighting{ WeightingEnum::Unbiased };
+    uint64_t      NumberOfStrata{ DefaultNumberOfStrata }; // for dependent samplers; used if N >= 16 per stratum
   };
 
   struct Result

@@ -91,6 +91,12 @@ public:
   itkSetEnumMacro(PointWeighting, WeightingEnum);
   itkGetConstMacro(PointWeighting, WeightingEnum);
 
+  /** Number of independent strata R (2 to 256, default 16) a sampler of dependent points (stratified, metropolis)
+   * is run as: its standard error comes from their spread (R - 1 degrees of freedom). Fewer strata leave each one
+   * more points and so a lower error for stratified sampling, at the price of a noisier standard-error image. */
+  itkSetClampMacro(NumberOfStrata, unsigned int, 2, 256);
+  itkGetConstMacro(NumberOfStrata, unsigned int);
+
   /** The sampler policy. Default: DRRLevelAliasSampler (exact importance sampling by attenuation level). */
   itkSetObjectMacro(Sampler, SamplerType);
   itkGetModifiableObjectMacro(Sampler, SamplerType);
@@ -141,6 +147,7 @@ protected:
 private:
   uint64_t                      m_NumberOfSamples{ 1000000 };
   uint64_t                      m_Seed{ 0 };
+  unsigned int                  m_NumberOfStrata{ 16 };
   KernelEnum                    m_ReconstructionKernel{ KernelEnum::Box };
   SplatEnum                     m_Splat{ SplatEnum::Nearest };
   WeightingEnum                 m_PointWeighting{ WeightingEnum::Unbiased };

@@ -85,6 +85,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   settings.Kernel = m_ReconstructionKernel;
   settings.Splat = m_Splat;
   settings.Weighting = m_PointWeighting;
+  settings.NumberOfStrata = m_NumberOfStrata;
   this->UpdateProgress(0.0f);
   const DRRPointRenderer::Result result = DRRPointRenderer::Render(
     *this->GetAttenuationVolume(), *m_Sampler, this->MakeProjection(), settings, this->GetMultiThreader(), this);
@@ -165,6 +166,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
   os << indent << "ReconstructionKernel: " << m_ReconstructionKernel << std::endl;
   os << indent << "Splat: " << m_Splat << std::endl;
   os << indent << "PointWeighting: " << m_PointWeighting << std::endl;
+  os << indent << "NumberOfStrata: " << m_NumberOfStrata << std::endl;
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
   os << indent << "PointsOnDetector: " << m_PointsOnDetector << std::endl;

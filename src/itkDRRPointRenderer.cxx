@@ -298,9 +298,10 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
 
   const uint64_t numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
   // Dependent points (stratified, Markov chains): independent strata, whose spread gives the standard error.
-  const bool     useStrata = !sampler.HasIndependentSamples() && settings.NumberOfSamples >= 16 * NumberOfStrata;
-  const Strata   strata(settings.NumberOfSamples, useStrata ? NumberOfStrata : 1);
-  const uint64_t numberOfStrata = strata.GetNumberOfStrata();
+  const bool useStrata = !sampler.HasIndependentSamples() && settings.NumberOfStrata > 1 &&
+                         settings.NumberOfSamples >= 16 * settings.NumberOfStrata;
+  const Strata             strata(settings.NumberOfSamples, useStrata ? settings.NumberOfStrata : 1);
+  const uint64_t           numberOfStrata = strata.GetNumberOfStrata();
   std::vector<Accumulator> accumulators(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
   for (Accumulator & accumulator : accumulators)
   {

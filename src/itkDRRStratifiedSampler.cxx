@@ -131,9 +131,19 @@ DRRStratifiedSampler::GenerateBatch(DRRPhiloxRandom &,
   for (uint64_t i = 0; i < range.Count; ++i)
   {
     const double target = (offset + static_cast<double>(firstIndex + i)) * step;
-    while (position < last && m_Cumulative[position] <= target)
+    if (position < last && m_Cumulative[position] <= target)
     {
-      ++position;
+      // Gallop: points are dense (a step or two) at large N, sparse (thousands of voxels apart) at small N.
+      uint64_t low = position;
+      uint64_t stride = 1;
+      while (low + stride < last && m_Cumulative[low + stride] <= target)
+      {
+        low += stride;
+        stride *= 2;
+      }
+      const auto begin = m_Cumulative.begin() + static_cast<std::ptrdiff_t>(low + 1);
+      const auto end = m_Cumulative.begin() + static_cast<std::ptrdiff_t>(std::min(last, low + stride) + 1);
+      position = static_cast<uint64_t>(std::upper_bound(begin, end, target) - m_Cumulative.begin());
     }
     position = std::min(position, last);
     voxelIndex[i] = m_Order[position];

@@ -478,6 +478,7 @@ Run(const Options & options)
     pointBased = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::New();
     pointBased->SetNumberOfSamples(options.samples);
     pointBased->SetSeed(options.seed);
+    pointBased->SetNumberOfStrata(options.strata);
     pointBased->SetReconstructionKernel(options.kernel == "tent" ? itk::PointBasedDRREnums::ReconstructionKernel::Tent
                                                                  : itk::PointBasedDRREnums::ReconstructionKernel::Box);
     pointBased->SetSplat(options.splat == "bilinear" ? itk::PointBasedDRREnums::Splat::Bilinear
