@@ -16,10 +16,15 @@
  *
  *=========================================================================*/
 #include "itkDRRPointRenderer.h"
+#include "itkDRRBilinearSplat.h"
+#include "itkDRRBoxKernel.h"
+#include "itkDRRNearestSplat.h"
+#include "itkDRRTentKernel.h"
 #include "itkDRRWorkScheduler.h"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace itk
 {
@@ -87,15 +92,17 @@ FixedPointExponent(double count, double bound)
   return static_cast<int>(std::floor(62.0 - std::log2(std::max(count * bound, 1e-300))));
 }
 
-/** Offset in [-1, 1) of the tent (triangular) density 1 - |t|, by inverting its distribution function. */
-inline double
-TentOffset(uint32_t bits)
+/** Renders whole chunks; one instantiation per reconstruction kernel and splat, chosen once per render. */
+class ChunkRendererBase
 {
-  const double u = DRRPhiloxRandom::ToUnitInterval(bits);
-  return u < 0.5 ? std::sqrt(2.0 * u) - 1.0 : 1.0 - std::sqrt(2.0 * (1.0 - u));
-}
+public:
+  virtual ~ChunkRendererBase() = default;
+  virtual void
+  Render(uint64_t chunk, const Strata & strata, Accumulator & accumulator) const = 0;
+};
 
-class ChunkRenderer
+template <typename TKernel, typename TSplat>
+class ChunkRenderer : public ChunkRendererBase
 {
 public:
   ChunkRenderer(const DRRAttenuationVolume &       volume,
@@ -116,7 +123,7 @@ public:
   {}
 
   void
-  Render(uint64_t chunk, const Strata & strata, Accumulator & accumulator) const
+  Render(uint64_t chunk, const Strata & strata, Accumulator & accumulator) const override
   {
     const uint64_t  pixels = static_cast<uint64_t>(m_Columns * m_Rows);
     const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, m_Settings.NumberOfSamples);
@@ -149,7 +156,10 @@ public:
         }
         const double weight =
           weights[i] * (m_Settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased ? perspectiveWeight : 1.0);
-        this->Splat(column, row, weight, target);
+        const bool landed = TSplat::Deposit(column, row, weight, m_Columns, m_Rows, [&](int64_t pixel, double share) {
+          this->Add(pixel, share, target);
+        });
+        *target.PointsOnDetector += landed ? 1 : 0;
       }
     }
   }
@@ -165,59 +175,18 @@ private:
     const double   centre[3] = { static_cast<double>(i), static_cast<double>(j), static_cast<double>(k) };
     for (unsigned int a = 0; a < 3; ++a)
     {
-      point[a] = centre[a] + (m_Settings.Kernel == PointBasedDRREnums::ReconstructionKernel::Box
-                                ? DRRPhiloxRandom::ToUnitInterval(bits[a]) - 0.5
-                                : TentOffset(bits[a]));
+      point[a] = centre[a] + TKernel::Offset(bits[a]);
     }
   }
 
   void
-  Deposit(int64_t pixel, double contribution, const Target & target) const
+  Add(int64_t pixel, double contribution, const Target & target) const
   {
     target.Sum[pixel] += std::llrint(contribution * m_SumScale);
     if (target.SumOfSquares)
     {
       target.SumOfSquares[pixel] += std::llrint(contribution * contribution * m_SquareScale);
     }
-  }
-
-  void
-  Splat(double column, double row, double weight, const Target & target) const
-  {
-    if (m_Settings.Splat == PointBasedDRREnums::Splat::Nearest)
-    {
-      const double c = std::floor(column + 0.5);
-      const double r = std::floor(row + 0.5);
-      if (c >= 0.0 && r >= 0.0 && c < static_cast<double>(m_Columns) && r < static_cast<double>(m_Rows))
-      {
-        this->Deposit(static_cast<int64_t>(c) + m_Columns * static_cast<int64_t>(r), weight, target);
-        ++*target.PointsOnDetector;
-      }
-      return;
-    }
-    const double c0 = std::floor(column);
-    const double r0 = std::floor(row);
-    if (c0 < -1.0 || r0 < -1.0 || c0 >= static_cast<double>(m_Columns) || r0 >= static_cast<double>(m_Rows))
-    {
-      return;
-    }
-    const double  fc = column - c0;
-    const double  fr = row - r0;
-    const int64_t ic = static_cast<int64_t>(c0);
-    const int64_t ir = static_cast<int64_t>(r0);
-    const double  shares[4] = { (1.0 - fc) * (1.0 - fr), fc * (1.0 - fr), (1.0 - fc) * fr, fc * fr };
-    bool          landed = false;
-    for (unsigned int corner = 0; corner < 4; ++corner)
-    {
-      const int64_t pc = ic + (corner & 1u);
-      const int64_t pr = ir + (corner >> 1);
-      if (pc >= 0 && pr >= 0 && pc < m_Columns && pr < m_Rows && shares[corner] > 0.0)
-      {
-        this->Deposit(pc + m_Columns * pr, weight * shares[corner], target);
-        landed = true;
-      }
-    }
-    *target.PointsOnDetector += landed ? 1 : 0;
   }
 
   const DRRPointSampler &            m_Sampler;
@@ -230,6 +199,37 @@ private:
   const double                       m_SumScale;
   const double                       m_SquareScale;
 };
+/** The registered splats: one case per splat policy. */
+template <typename TKernel, typename... TArguments>
+std::unique_ptr<ChunkRendererBase>
+MakeChunkRenderer(PointBasedDRREnums::Splat splat, TArguments &&... arguments)
+{
+  switch (splat)
+  {
+    case PointBasedDRREnums::Splat::Nearest:
+      return std::make_unique<ChunkRenderer<TKernel, DRRNearestSplat>>(std::forward<TArguments>(arguments)...);
+    case PointBasedDRREnums::Splat::Bilinear:
+      return std::make_unique<ChunkRenderer<TKernel, DRRBilinearSplat>>(std::forward<TArguments>(arguments)...);
+  }
+  itkGenericExceptionMacro("DRRPointRenderer: unknown splat " << splat);
+}
+
+/** The registered reconstruction kernels: one case per kernel policy. */
+template <typename... TArguments>
+std::unique_ptr<ChunkRendererBase>
+MakeChunkRenderer(PointBasedDRREnums::ReconstructionKernel kernel,
+                  PointBasedDRREnums::Splat                splat,
+                  TArguments &&... arguments)
+{
+  switch (kernel)
+  {
+    case PointBasedDRREnums::ReconstructionKernel::Box:
+      return MakeChunkRenderer<DRRBoxKernel>(splat, std::forward<TArguments>(arguments)...);
+    case PointBasedDRREnums::ReconstructionKernel::Tent:
+      return MakeChunkRenderer<DRRTentKernel>(splat, std::forward<TArguments>(arguments)...);
+  }
+  itkGenericExceptionMacro("DRRPointRenderer: unknown reconstruction kernel " << kernel);
+}
 } // namespace
 
 void
@@ -238,7 +238,7 @@ DRRPointRenderer::ComputeKernelSupport(const DRRAttenuationVolume & volume,
                                        std::array<double, 3> &      lower,
                                        std::array<double, 3> &      upper)
 {
-  const double reach = kernel == KernelEnum::Box ? 0.5 : 1.0;
+  const double reach = kernel == KernelEnum::Box ? DRRBoxKernel::Reach : DRRTentKernel::Reach;
   for (unsigned int a = 0; a < 3; ++a)
   {
     lower[a] = -reach;
@@ -291,10 +291,16 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
     result.MinimumDepth = result.SourceNearVolume ? depthCut : 0.0;
     contributionBound *= (sid / minimumDepth) * (sid / minimumDepth) * obliquity;
   }
-  const int           sumExponent = FixedPointExponent(N, contributionBound);
-  const int           squareExponent = FixedPointExponent(N, contributionBound * contributionBound);
-  const ChunkRenderer chunkRenderer(
-    volume, sampler, projection, settings, std::ldexp(1.0, sumExponent), std::ldexp(1.0, squareExponent));
+  const int sumExponent = FixedPointExponent(N, contributionBound);
+  const int squareExponent = FixedPointExponent(N, contributionBound * contributionBound);
+  const std::unique_ptr<ChunkRendererBase> chunkRenderer = MakeChunkRenderer(settings.Kernel,
+                                                                             settings.Splat,
+                                                                             volume,
+                                                                             sampler,
+                                                                             projection,
+                                                                             settings,
+                                                                             std::ldexp(1.0, sumExponent),
+                                                                             std::ldexp(1.0, squareExponent));
 
   const uint64_t numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
   // Dependent points (stratified, Markov chains): independent strata, whose spread gives the standard error.
@@ -314,7 +320,7 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   DRRWorkScheduler::Run(
     threader,
     numberOfChunks,
-    [&](unsigned int worker, uint64_t chunk) { chunkRenderer.Render(chunk, strata, accumulators[worker]); },
+    [&](unsigned int worker, uint64_t chunk) { chunkRenderer->Render(chunk, strata, accumulators[worker]); },
     progressFilter);
 
   // Integer reduction: exact, hence independent of the order and of the worker that held each chunk.

@@ -1,0 +1,48 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRTentKernel_h
+#define itkDRRTentKernel_h
+
+#include "itkDRRPhiloxRandom.h"
+
+#include <cmath>
+
+namespace itk
+{
+/** \class DRRTentKernel
+ * \brief Reconstruction-kernel policy: the voxel centre plus a triangular offset in [-1, 1) per axis, which draws
+ * exactly from the trilinear interpolant of the volume padded with one layer of zero voxels.
+ *
+ * \sa DRRBoxKernel for the policy's interface.
+ * \ingroup PointBasedDRR
+ */
+struct DRRTentKernel
+{
+  static constexpr double Reach = 1.0;
+
+  /** Inverse of the distribution function of the density 1 - |t|. */
+  static double
+  Offset(uint32_t bits)
+  {
+    const double u = DRRPhiloxRandom::ToUnitInterval(bits);
+    return u < 0.5 ? std::sqrt(2.0 * u) - 1.0 : 1.0 - std::sqrt(2.0 * (1.0 - u));
+  }
+};
+} // namespace itk
+
+#endif
