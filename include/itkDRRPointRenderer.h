@@ -55,10 +55,6 @@ public:
   /** Samples per chunk: the unit of random-stream addressing, work distribution and progress. */
   static constexpr uint64_t SamplesPerChunk = 65536;
 
-  /** Default number of strata (independent replicates of N / R samples) of a render by a sampler whose points are
-   * dependent. The standard error then comes from the spread of the strata's estimates. */
-  static constexpr uint64_t DefaultNumberOfStrata = 16;
-
   struct Settings
   {
     uint64_t      NumberOfSamples{ 0 };
@@ -66,7 +62,7 @@ public:
     KernelEnum    Kernel{ KernelEnum::Box };
     SplatEnum     Splat{ SplatEnum::Nearest };
     WeightingEnum Weighting{ WeightingEnum::Unbiased };
-    uint64_t      NumberOfStrata{ DefaultNumberOfStrata }; // for dependent samplers; used if N >= 16 per stratum
+    uint64_t      NumberOfStrata{ 0 }; // for dependent samplers (0: the sampler's preference); if N >= 16 per stratum
   };
 
   struct Result

@@ -85,6 +85,14 @@ public:
     return true;
   }
 
+  /** For dependent samplers, the number of strata that serves them best (the renderer's default). 16 gives a steady
+   * standard-error image (15 degrees of freedom); a stratified sampler loses accuracy with every extra stratum. */
+  virtual unsigned int
+  GetPreferredNumberOfStrata() const
+  {
+    return 16;
+  }
+
   /** Bytes held by the sampling tables. */
   virtual size_t
   GetTableSizeInBytes() const = 0;

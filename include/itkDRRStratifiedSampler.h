@@ -33,9 +33,9 @@ namespace itk
  * n - 1, with one uniform offset U per stratum: every voxel receives its expected count N mass_v / M to within one
  * point, so the count noise that dominates i.i.d. sampling is gone, and points spread evenly through space because the
  * curve keeps neighbours together. The estimate stays unbiased (each point is uniform over the mass for a uniform U)
- * and every weight is 1. Points are not independent: the renderer draws 16 strata with independent offsets and
- * estimates the standard error from their spread. Beyond the paper, whose future work named low-discrepancy sampling.
- * Tables: 4 bytes of index and 8 of cumulative mass per non-air voxel.
+ * and every weight is 1. Points are not independent: the renderer draws 4 strata (by default) with independent
+ * offsets and estimates the standard error from their spread. Beyond the paper, whose future work named low-discrepancy
+ * sampling. Tables: 4 bytes of index and 8 of cumulative mass per non-air voxel.
  *
  * \ingroup PointBasedDRR
  */
@@ -65,6 +65,14 @@ public:
   HasIndependentSamples() const override
   {
     return false;
+  }
+
+  /** 4: on the LIDC chest at 10^8 points, 1.62x less error than i.i.d. sampling, against 1.38x with 8 or 16 strata
+   * (each stratum is a systematic sample of N / R points; their independent boundary errors add up). */
+  unsigned int
+  GetPreferredNumberOfStrata() const override
+  {
+    return 4;
   }
 
   size_t

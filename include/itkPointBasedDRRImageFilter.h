@@ -91,10 +91,11 @@ public:
   itkSetEnumMacro(PointWeighting, WeightingEnum);
   itkGetConstMacro(PointWeighting, WeightingEnum);
 
-  /** Number of independent strata R (2 to 256, default 16) a sampler of dependent points (stratified, metropolis)
-   * is run as: its standard error comes from their spread (R - 1 degrees of freedom). Fewer strata leave each one
-   * more points and so a lower error for stratified sampling, at the price of a noisier standard-error image. */
-  itkSetClampMacro(NumberOfStrata, unsigned int, 2, 256);
+  /** Number of independent strata R (2 to 256; 0, the default: the sampler's preference, 4 for stratified and 16
+   * for metropolis) a sampler of dependent points is run as: its standard error comes from their spread (R - 1
+   * degrees of freedom). Fewer strata leave each one more points and so a lower error for stratified sampling, at the
+   * price of a noisier standard-error image. */
+  itkSetClampMacro(NumberOfStrata, unsigned int, 0, 256);
   itkGetConstMacro(NumberOfStrata, unsigned int);
 
   /** The sampler policy. Default: DRRLevelAliasSampler (exact importance sampling by attenuation level). */
@@ -147,7 +148,7 @@ protected:
 private:
   uint64_t                      m_NumberOfSamples{ 1000000 };
   uint64_t                      m_Seed{ 0 };
-  unsigned int                  m_NumberOfStrata{ 16 };
+  unsigned int                  m_NumberOfStrata{ 0 };
   KernelEnum                    m_ReconstructionKernel{ KernelEnum::Box };
   SplatEnum                     m_Splat{ SplatEnum::Nearest };
   WeightingEnum                 m_PointWeighting{ WeightingEnum::Unbiased };

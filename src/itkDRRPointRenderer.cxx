@@ -304,9 +304,11 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
 
   const uint64_t numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
   // Dependent points (stratified, Markov chains): independent strata, whose spread gives the standard error.
-  const bool useStrata = !sampler.HasIndependentSamples() && settings.NumberOfStrata > 1 &&
-                         settings.NumberOfSamples >= 16 * settings.NumberOfStrata;
-  const Strata             strata(settings.NumberOfSamples, useStrata ? settings.NumberOfStrata : 1);
+  const uint64_t requestedStrata =
+    settings.NumberOfStrata > 0 ? settings.NumberOfStrata : sampler.GetPreferredNumberOfStrata();
+  const bool useStrata =
+    !sampler.HasIndependentSamples() && requestedStrata > 1 && settings.NumberOfSamples >= 16 * requestedStrata;
+  const Strata             strata(settings.NumberOfSamples, useStrata ? requestedStrata : 1);
   const uint64_t           numberOfStrata = strata.GetNumberOfStrata();
   std::vector<Accumulator> accumulators(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
   for (Accumulator & accumulator : accumulators)

@@ -386,8 +386,11 @@ AllScenarios()
   scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Bilinear, false, true });
   for (const char * sampler : { "paper-hybrid", "mcvr", "stratified", "metropolis" })
   {
+    // Every kernel x splat, across both beams.
     scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false, sampler });
     scenarios.push_back({ ProjectionEnum::Parallel, KernelEnum::Box, SplatEnum::Nearest, false, false, sampler });
+    scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Bilinear, false, false, sampler });
+    scenarios.push_back({ ProjectionEnum::Parallel, KernelEnum::Tent, SplatEnum::Nearest, false, false, sampler });
   }
   scenarios.push_back(
     { ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, true, false, "paper-hybrid" });

@@ -306,8 +306,8 @@ Rendering:
                          mcvr (uniform voxels weighted by mu, the Monte Carlo volume rendering baseline)
   --kernel box|tent      voxel model: box (piecewise constant, default) or tent (trilinear)
   --splat nearest|bilinear
-  --strata R             independent strata for stratified/metropolis (default 16): fewer, less error; more,
-                         a steadier standard-error image
+  --strata R             independent strata for stratified/metropolis (default: 4 and 16): fewer, less error;
+                         more, a steadier standard-error image
   --seed S               random seed (default 0): the same seed gives the same image on any thread count
   --threads T            worker threads (default: all cores)
   --paper-count          count points unweighted, as the paper does (biased in perspective, and for

@@ -61,7 +61,7 @@ struct Options
   uint64_t    seed{ 0 };
   unsigned    threads{ 0 }; // 0: all
   bool        paperCount{ false };
-  unsigned    strata{ 16 };
+  unsigned    strata{ 0 }; // 0: the sampler's preference
 
   std::string                          inputUnits{ "hu" };
   std::optional<double>                energyKeV;
