@@ -85,6 +85,20 @@ public:
     return true;
   }
 
+  /** True if the sampler also chooses where inside the voxel each point goes (GenerateJitter()); false (default):
+   * the renderer draws the reconstruction kernel's offsets from an independent stream. */
+  virtual bool
+  ProvidesJitter() const
+  {
+    return false;
+  }
+
+  /** For ProvidesJitter() samplers: 3 uniform 32-bit words per sample of the range (x, y, z), each uniform on its own
+   * so that the kernel's offsets keep their law, the point its density. */
+  virtual void
+  GenerateJitter(const SampleRange &, uint32_t * /* bits, 3 per sample */) const
+  {}
+
   /** For dependent samplers, the number of strata that serves them best (the renderer's default). 16 gives a steady
    * standard-error image (15 degrees of freedom); a stratified sampler loses accuracy with every extra stratum. */
   virtual unsigned int

@@ -35,7 +35,8 @@ namespace itk
  * curve keeps neighbours together. The estimate stays unbiased (each point is uniform over the mass for a uniform U)
  * and every weight is 1. Points are not independent: the renderer draws 4 strata (by default) with independent
  * offsets and estimates the standard error from their spread. Beyond the paper, whose future work named low-discrepancy
- * sampling. Tables: 4 bytes of index and 8 of cumulative mass per non-air voxel.
+ * sampling. Inside the voxel, points follow a randomly shifted R2 low-discrepancy sequence (GenerateJitter()).
+ * Tables: 4 bytes of index and 8 of cumulative mass per non-air voxel.
  *
  * \ingroup PointBasedDRR
  */
@@ -74,6 +75,16 @@ public:
   {
     return 4;
   }
+
+  /** Low-discrepancy jitter: the R2 sequence (steps of 1 / plastic number^k per axis) with a random shift per
+   * stratum, so each point is uniform in its voxel and consecutive points, which share voxels, spread evenly. */
+  bool
+  ProvidesJitter() const override
+  {
+    return true;
+  }
+  void
+  GenerateJitter(const SampleRange & range, uint32_t * bits) const override;
 
   size_t
   GetTableSizeInBytes() const override

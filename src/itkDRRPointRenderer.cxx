@@ -131,6 +131,8 @@ public:
     DRRPhiloxRandom kernelStream(m_Settings.Seed, chunk, 1);
     uint64_t        voxels[samplesPerBatch];
     double          weights[samplesPerBatch];
+    uint32_t        jitter[3 * samplesPerBatch];
+    const bool      providesJitter = m_Sampler.ProvidesJitter();
     DRRPointSampler::SampleRange range;
     range.Seed = m_Settings.Seed;
     for (range.First = chunk * DRRPointRenderer::SamplesPerChunk; range.First < end; range.First += range.Count)
@@ -145,10 +147,18 @@ public:
                            accumulator.SumOfSquares.empty() ? nullptr : accumulator.SumOfSquares.data(),
                            &accumulator.PointsOnDetector };
       m_Sampler.GenerateBatch(samplerStream, range, voxels, weights);
+      if (providesJitter)
+      {
+        m_Sampler.GenerateJitter(range, jitter);
+      }
       for (uint64_t i = 0; i < range.Count; ++i)
       {
         double point[3];
-        this->PlaceInVoxel(voxels[i], kernelStream.Next(), point);
+        this->PlaceInVoxel(voxels[i],
+                           providesJitter
+                             ? DRRPhiloxRandom::BlockType{ { jitter[3 * i], jitter[3 * i + 1], jitter[3 * i + 2], 0 } }
+                             : kernelStream.Next(),
+                           point);
         double column, row, perspectiveWeight;
         if (!m_Projection.Project(point, column, row, perspectiveWeight))
         {

@@ -150,4 +150,25 @@ DRRStratifiedSampler::GenerateBatch(DRRPhiloxRandom &,
     weight[i] = 1.0;
   }
 }
+void
+DRRStratifiedSampler::GenerateJitter(const SampleRange & range, uint32_t * bits) const
+{
+  // R2: x_i = frac(shift + i alpha), alpha_k = 1 / phi^k with phi the plastic number (phi^3 = phi + 1). In 0.64 fixed
+  // point the fractional part is the wrap-around of unsigned arithmetic. The shift is uniform and new per stratum.
+  constexpr uint64_t               alpha[3] = { 0xC13FA9A902A6328Full, 0x91E10DA5C79E7B1Cull, 0x6E1EF25A386184E3ull };
+  DRRPhiloxRandom                  shiftStream(range.Seed, range.Stratum, 4);
+  const DRRPhiloxRandom::BlockType a = shiftStream.Next();
+  const DRRPhiloxRandom::BlockType b = shiftStream.Next();
+  const uint64_t                   shift[3] = { (uint64_t{ a[0] } << 32) | a[1],
+                                                (uint64_t{ a[2] } << 32) | a[3],
+                                                (uint64_t{ b[0] } << 32) | b[1] };
+  const uint64_t                   first = range.First - range.StratumFirst;
+  for (uint64_t i = 0; i < range.Count; ++i)
+  {
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      bits[3 * i + axis] = static_cast<uint32_t>((shift[axis] + (first + i) * alpha[axis]) >> 32);
+    }
+  }
+}
 } // namespace itk
