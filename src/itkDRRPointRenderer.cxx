@@ -209,34 +209,32 @@ private:
   const double                       m_SumScale;
   const double                       m_SquareScale;
 };
-/** The registered splats: one case per splat policy. */
-template <typename TKernel, typename... TArguments>
-std::unique_ptr<ChunkRendererBase>
-MakeChunkRenderer(PointBasedDRREnums::Splat splat, TArguments &&... arguments)
+/** The registered splats: calls visit with a value of the splat policy's type. One case per splat. */
+template <typename TVisit>
+auto
+WithSplat(PointBasedDRREnums::Splat splat, TVisit && visit)
 {
   switch (splat)
   {
     case PointBasedDRREnums::Splat::Nearest:
-      return std::make_unique<ChunkRenderer<TKernel, DRRNearestSplat>>(std::forward<TArguments>(arguments)...);
+      return visit(DRRNearestSplat{});
     case PointBasedDRREnums::Splat::Bilinear:
-      return std::make_unique<ChunkRenderer<TKernel, DRRBilinearSplat>>(std::forward<TArguments>(arguments)...);
+      return visit(DRRBilinearSplat{});
   }
   itkGenericExceptionMacro("DRRPointRenderer: unknown splat " << splat);
 }
 
-/** The registered reconstruction kernels: one case per kernel policy. */
-template <typename... TArguments>
-std::unique_ptr<ChunkRendererBase>
-MakeChunkRenderer(PointBasedDRREnums::ReconstructionKernel kernel,
-                  PointBasedDRREnums::Splat                splat,
-                  TArguments &&... arguments)
+/** The registered reconstruction kernels: calls visit with a value of the kernel policy's type. One case per kernel. */
+template <typename TVisit>
+auto
+WithKernel(PointBasedDRREnums::ReconstructionKernel kernel, TVisit && visit)
 {
   switch (kernel)
   {
     case PointBasedDRREnums::ReconstructionKernel::Box:
-      return MakeChunkRenderer<DRRBoxKernel>(splat, std::forward<TArguments>(arguments)...);
+      return visit(DRRBoxKernel{});
     case PointBasedDRREnums::ReconstructionKernel::Tent:
-      return MakeChunkRenderer<DRRTentKernel>(splat, std::forward<TArguments>(arguments)...);
+      return visit(DRRTentKernel{});
   }
   itkGenericExceptionMacro("DRRPointRenderer: unknown reconstruction kernel " << kernel);
 }
@@ -248,7 +246,7 @@ DRRPointRenderer::ComputeKernelSupport(const DRRAttenuationVolume & volume,
                                        std::array<double, 3> &      lower,
                                        std::array<double, 3> &      upper)
 {
-  const double reach = kernel == KernelEnum::Box ? DRRBoxKernel::Reach : DRRTentKernel::Reach;
+  const double reach = WithKernel(kernel, [](auto policy) { return decltype(policy)::Reach; });
   for (unsigned int a = 0; a < 3; ++a)
   {
     lower[a] = -reach;
@@ -301,16 +299,16 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
     result.MinimumDepth = result.SourceNearVolume ? depthCut : 0.0;
     contributionBound *= (sid / minimumDepth) * (sid / minimumDepth) * obliquity;
   }
-  const int sumExponent = FixedPointExponent(N, contributionBound);
-  const int squareExponent = FixedPointExponent(N, contributionBound * contributionBound);
-  const std::unique_ptr<ChunkRendererBase> chunkRenderer = MakeChunkRenderer(settings.Kernel,
-                                                                             settings.Splat,
-                                                                             volume,
-                                                                             sampler,
-                                                                             projection,
-                                                                             settings,
-                                                                             std::ldexp(1.0, sumExponent),
-                                                                             std::ldexp(1.0, squareExponent));
+  const int    sumExponent = FixedPointExponent(N, contributionBound);
+  const int    squareExponent = FixedPointExponent(N, contributionBound * contributionBound);
+  const double sumScale = std::ldexp(1.0, sumExponent);
+  const double squareScale = std::ldexp(1.0, squareExponent);
+  const std::unique_ptr<ChunkRendererBase> chunkRenderer = WithKernel(settings.Kernel, [&](auto kernel) {
+    return WithSplat(settings.Splat, [&](auto splat) -> std::unique_ptr<ChunkRendererBase> {
+      return std::make_unique<ChunkRenderer<decltype(kernel), decltype(splat)>>(
+        volume, sampler, projection, settings, sumScale, squareScale);
+    });
+  });
 
   const uint64_t numberOfChunks = (settings.NumberOfSamples + SamplesPerChunk - 1) / SamplesPerChunk;
   // Dependent points (stratified, Markov chains): independent strata, whose spread gives the standard error.
