@@ -32,7 +32,7 @@ main(int argc, char * argv[])
   try
   {
     using CTType = itk::Image<short, 3>;
-    auto ct = itk::ReadImage<CTType>(argv[1]);
+    auto                  ct = itk::ReadImage<CTType>(argv[1]);
     itk::Point<double, 3> first, last; // isocenter at the volume centre
     ct->TransformIndexToPhysicalPoint(ct->GetLargestPossibleRegion().GetIndex(), first);
     ct->TransformIndexToPhysicalPoint(ct->GetLargestPossibleRegion().GetUpperIndex(), last);

@@ -27,8 +27,8 @@ namespace itk
  * \brief Splat policy: the whole point goes to the pixel that contains it (unbiased for the pixel-area average).
  *
  * A splat policy provides Deposit(column, row, weight, columns, rows, add): it calls add(pixel, share of weight) for
- * every pixel the point reaches and returns whether it reached the detector. Register a new one with one case in WithSplat()
- * in itkDRRPointRenderer.cxx.
+ * every pixel the point reaches and returns whether it reached the detector. Register a new one with one case in
+ * WithSplat() in itkDRRPointRenderer.cxx.
  *
  * \ingroup PointBasedDRR
  */
