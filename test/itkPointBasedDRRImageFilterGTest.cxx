@@ -477,6 +477,24 @@ TEST(PointBasedDRRPaperHybrid, RouletteExtremesAndOddLevelsStayUnbiased)
   EXPECT_LT(std::abs(CheckSamplerBias(manyLevels, itk::DRRLevelAliasSampler::New(), 50).SumZ), zBound) << "level-alias";
 }
 
+TEST(PointBasedDRRSamplers, EverySamplerStaysUnbiasedAtTheInt16Extremes)
+{
+  // Scanner padding (-3024, -32768 HU) is air; 3071 HU and the int16 maximum are the densest levels.
+  auto         phantom = MakePhantom<HUVolumeType>(false);
+  const short  extremes[] = { -32768, -3024, -2048, -1024, 3071, 32767 };
+  unsigned int e = 0;
+  for (size_t v = 0; v < phantom->GetBufferedRegion().GetNumberOfPixels(); v += 5)
+  {
+    phantom->GetBufferPointer()[v] = extremes[e++ % 6];
+  }
+  for (const auto & entry : itk::DRRSamplerFactory::GetEntries())
+  {
+    const BiasCheck check = CheckSamplerBias(phantom, entry.Create(), 100000);
+    EXPECT_LT(std::abs(check.SumZ), zBound) << entry.Name;
+    EXPECT_LT(check.MaxPixelZ, zBound + 0.5) << entry.Name;
+  }
+}
+
 TEST(PointBasedDRRPaperHybrid, UnweightedCountIsBiasedAndTheBiasIsMeasured)
 {
   // Without weights the paper's hybrid draws a level with probability ~ p(l) = mu_l / mu_max whatever its size: small
