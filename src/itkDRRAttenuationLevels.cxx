@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRAttenuationLevels.h"
+#include "itkMultiThreaderBase.h"
 
 #include <algorithm>
 #include <cmath>
@@ -76,25 +77,76 @@ DRRAttenuationLevels::Group(const DRRAttenuationVolume &  volume,
   const float *  mu = volume.GetMuBuffer();
   const uint64_t numberOfVoxels = volume.GetNumberOfVoxels();
 
-  // Counting sort of the non-air voxels by key.
+  // Counting sort of the non-air voxels by key, in parallel over fixed blocks of consecutive voxels. The blocks
+  // depend on the volume alone, never on the threads, and are merged in order: the same levels, in the same voxel
+  // order, with the same sums, on any number of threads.
+  struct Tally
+  {
+    std::vector<uint64_t> Count;
+    std::vector<double>   MuSum;
+    std::vector<float>    FirstMu;
+    std::vector<float>    LargestMu;
+    bool                  Uniform{ true };
+  };
+  const uint64_t bytesPerKey = 2 * sizeof(uint64_t) + 2 * sizeof(float);
+  const uint64_t numberOfBlocks = std::max<uint64_t>(
+    1,
+    std::min<uint64_t>({ 64, numberOfVoxels / 65536 + 1, (uint64_t{ 1 } << 28) / (numberOfKeys * bytesPerKey + 1) }));
+  const auto         blockBegin = [&](uint64_t b) { return numberOfVoxels * b / numberOfBlocks; };
+  std::vector<Tally> tallies(numberOfBlocks);
+  auto               threader = MultiThreaderBase::New();
+  threader->ParallelizeArray(
+    0,
+    numberOfBlocks,
+    [&](SizeValueType b) {
+      Tally & tally = tallies[b];
+      tally.Count.assign(numberOfKeys, 0);
+      tally.MuSum.assign(numberOfKeys, 0.0);
+      tally.FirstMu.assign(numberOfKeys, -1.0f);
+      tally.LargestMu.assign(numberOfKeys, 0.0f);
+      for (uint64_t v = blockBegin(b); v < blockBegin(b + 1); ++v)
+      {
+        if (mu[v] > 0.0f)
+        {
+          const uint32_t key = keys[v];
+          ++tally.Count[key];
+          tally.MuSum[key] += mu[v];
+          tally.LargestMu[key] = std::max(tally.LargestMu[key], mu[v]);
+          if (tally.FirstMu[key] < 0.0f)
+          {
+            tally.FirstMu[key] = mu[v];
+          }
+          else if (tally.FirstMu[key] != mu[v])
+          {
+            tally.Uniform = false;
+          }
+        }
+      }
+    },
+    nullptr);
+
   std::vector<uint64_t> countPerKey(numberOfKeys, 0);
   std::vector<double>   muSumPerKey(numberOfKeys, 0.0);
   std::vector<float>    firstMuPerKey(numberOfKeys, -1.0f);
   std::vector<float>    largestMuPerKey(numberOfKeys, 0.0f);
   bool                  uniformLevels = true;
-  for (uint64_t v = 0; v < numberOfVoxels; ++v)
+  for (const Tally & tally : tallies)
   {
-    if (mu[v] > 0.0f)
+    uniformLevels = uniformLevels && tally.Uniform;
+    for (uint32_t key = 0; key < numberOfKeys; ++key)
     {
-      const uint32_t key = keys[v];
-      ++countPerKey[key];
-      muSumPerKey[key] += mu[v];
-      largestMuPerKey[key] = std::max(largestMuPerKey[key], mu[v]);
+      if (tally.Count[key] == 0)
+      {
+        continue;
+      }
+      countPerKey[key] += tally.Count[key];
+      muSumPerKey[key] += tally.MuSum[key];
+      largestMuPerKey[key] = std::max(largestMuPerKey[key], tally.LargestMu[key]);
       if (firstMuPerKey[key] < 0.0f)
       {
-        firstMuPerKey[key] = mu[v];
+        firstMuPerKey[key] = tally.FirstMu[key];
       }
-      else if (firstMuPerKey[key] != mu[v])
+      else if (firstMuPerKey[key] != tally.FirstMu[key])
       {
         uniformLevels = false;
       }
@@ -126,15 +178,36 @@ DRRAttenuationLevels::Group(const DRRAttenuationVolume &  volume,
   }
   m_MaximumCorrection = m_Uniform ? 1.0 : maximumWeight;
 
-  m_VoxelIndices.assign(start, 0);
-  std::vector<uint64_t> fill(m_Start);
-  for (uint64_t v = 0; v < numberOfVoxels; ++v)
+  // Each block's first slot per key follows the blocks before it; the counts become the fill positions.
+  for (uint32_t key = 0; key < numberOfKeys; ++key)
   {
-    if (mu[v] > 0.0f)
+    if (countPerKey[key] == 0)
     {
-      m_VoxelIndices[fill[levelOfKey[keys[v]]]++] = static_cast<uint32_t>(v);
+      continue;
+    }
+    uint64_t position = m_Start[levelOfKey[key]];
+    for (Tally & tally : tallies)
+    {
+      const uint64_t count = tally.Count[key];
+      tally.Count[key] = position;
+      position += count;
     }
   }
+  m_VoxelIndices.assign(start, 0);
+  threader->ParallelizeArray(
+    0,
+    numberOfBlocks,
+    [&](SizeValueType b) {
+      std::vector<uint64_t> & fill = tallies[b].Count;
+      for (uint64_t v = blockBegin(b); v < blockBegin(b + 1); ++v)
+      {
+        if (mu[v] > 0.0f)
+        {
+          m_VoxelIndices[fill[keys[v]]++] = static_cast<uint32_t>(v);
+        }
+      }
+    },
+    nullptr);
 
   m_TotalMuSum = 0.0;
   for (double m : m_MuSum)
