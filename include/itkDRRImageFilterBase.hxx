@@ -19,6 +19,7 @@
 #define itkDRRImageFilterBase_hxx
 
 #include "itkDRRImageFilterBase.h"
+#include "itkDRROutputConversion.h"
 #include "itkImageRegionConstIterator.h"
 
 #include <algorithm>
@@ -329,7 +330,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
     low = *range.first;
     width = std::max(*range.second - *range.first, std::numeric_limits<double>::min());
   }
-  const double grayMaximum = m_OutputMode == OutputModeEnum::Gray8 ? 255.0 : 65535.0;
+  const DRROutputConversion conversion(m_OutputMode, low, width);
 
   const auto notFinite =
     std::find_if(lineIntegral.begin(), lineIntegral.end(), [](double v) { return !std::isfinite(v); });
@@ -343,29 +344,15 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
   OutputPixelType * errors = standardError ? this->AllocateOutput(1, lineIntegral.size()) : nullptr;
   for (size_t p = 0; p < lineIntegral.size(); ++p)
   {
-    const double value = lineIntegral[p];
-    double       converted = value;
-    double       slope = 1.0; // d(output) / d(line integral), for the delta method
-    if (m_OutputMode == OutputModeEnum::Transmission)
-    {
-      converted = std::exp(-value);
-      slope = converted;
-    }
-    else if (gray)
-    {
-      const double position = (value - low) / width;
-      converted = std::floor(std::min(1.0, std::max(0.0, position)) * grayMaximum + 0.5);
-      slope = position > 0.0 && position < 1.0 ? grayMaximum / width : 0.0;
-    }
-    values[p] = static_cast<OutputPixelType>(converted);
+    values[p] = static_cast<OutputPixelType>(conversion.Value(lineIntegral[p]));
     if (errors)
     {
-      const double error = slope * (*standardError)[p];
-      errors[p] = static_cast<OutputPixelType>(gray ? std::min(grayMaximum, std::floor(error + 0.5)) : error);
+      const double error = conversion.Slope(lineIntegral[p]) * (*standardError)[p];
+      errors[p] =
+        static_cast<OutputPixelType>(gray ? std::min(conversion.GetMaximum(), std::floor(error + 0.5)) : error);
     }
   }
 }
-
 template <typename TInputImage, typename TOutputImage>
 auto
 DRRImageFilterBase<TInputImage, TOutputImage>::AllocateOutput(unsigned int index, size_t numberOfPixels)

@@ -21,6 +21,7 @@
 #include "itkCommand.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRRMetropolisSampler.h"
+#include "itkDRROutputConversion.h"
 #include "itkDRRPaperHybridSampler.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkImageFileWriter.h"
@@ -322,7 +323,7 @@ ChooseWindow(const Options & options, const ProjectionType * image, double & lev
 
 template <typename TGray>
 void
-WriteGray(const ProjectionType * lineIntegral, double level, double width, double maximum, const std::string & path)
+WriteGray(const ProjectionType * lineIntegral, const itk::DRROutputConversion & conversion, const std::string & path)
 {
   auto gray = TGray::New();
   gray->CopyInformation(lineIntegral);
@@ -330,11 +331,9 @@ WriteGray(const ProjectionType * lineIntegral, double level, double width, doubl
   gray->Allocate();
   const float * in = lineIntegral->GetBufferPointer();
   auto *        out = gray->GetBufferPointer();
-  const double  low = level - 0.5 * width;
   for (size_t p = 0; p < gray->GetBufferedRegion().GetNumberOfPixels(); ++p)
   {
-    const double t = std::min(1.0, std::max(0.0, (in[p] - low) / width));
-    out[p] = static_cast<typename TGray::PixelType>(std::floor(t * maximum + 0.5));
+    out[p] = static_cast<typename TGray::PixelType>(conversion.Value(in[p]));
   }
   itk::WriteImage(gray, path);
 }
@@ -363,9 +362,13 @@ WriteOutputs(const Options &            options,
     notes.push_back("gray window: level " + std::to_string(level) + ", width " + std::to_string(width) +
                     " (line-integral units)");
   }
-  const double maximum = mode == "gray8" ? 255.0 : 65535.0;
-  auto         write = [&](const ProjectionType * image, const std::string & path, bool isError) {
-    if (mode == "line-integral")
+  const OutputModeEnum           outputMode = mode == "transmission" ? OutputModeEnum::Transmission
+                                              : mode == "gray8"      ? OutputModeEnum::Gray8
+                                              : mode == "gray16"     ? OutputModeEnum::Gray16
+                                                                     : OutputModeEnum::LineIntegral;
+  const itk::DRROutputConversion conversion(outputMode, level - 0.5 * width, width);
+  auto                           write = [&](const ProjectionType * image, const std::string & path, bool isError) {
+    if (outputMode == OutputModeEnum::LineIntegral)
     {
       itk::WriteImage(image, path);
       return;
@@ -379,29 +382,20 @@ WriteOutputs(const Options &            options,
     float *       out = converted->GetBufferPointer();
     for (size_t p = 0; p < converted->GetBufferedRegion().GetNumberOfPixels(); ++p)
     {
-      if (mode == "transmission")
-      {
-        // The standard error of exp(-L) by the delta method: exp(-L) * SE(L).
-        out[p] = static_cast<float>(isError ? std::exp(-l[p]) * in[p] : std::exp(-in[p]));
-      }
-      else
-      {
-        const double position = (l[p] - (level - 0.5 * width)) / width;
-        out[p] = static_cast<float>(isError ? (position > 0.0 && position < 1.0 ? in[p] * maximum / width : 0.0)
-                                                    : std::floor(std::min(1.0, std::max(0.0, position)) * maximum + 0.5));
-      }
+      // A standard error goes through the mode by the delta method: times d(value) / dL at the pixel's L.
+      out[p] = static_cast<float>(isError ? conversion.Slope(l[p]) * in[p] : conversion.Value(in[p]));
     }
     itk::WriteImage(converted, path);
   };
   if (kind == "png")
   {
-    if (mode == "gray8")
+    if (outputMode == OutputModeEnum::Gray8)
     {
-      WriteGray<GrayType>(lineIntegral, level, width, maximum, options.output);
+      WriteGray<GrayType>(lineIntegral, conversion, options.output);
     }
     else
     {
-      WriteGray<Gray16Type>(lineIntegral, level, width, maximum, options.output);
+      WriteGray<Gray16Type>(lineIntegral, conversion, options.output);
     }
   }
   else
