@@ -62,6 +62,12 @@ public:
   {
     return m_MuSum[level];
   }
+  /** Sum of mu of every level, in level order. */
+  const std::vector<double> &
+  GetMuSums() const
+  {
+    return m_MuSum;
+  }
   /** Sum of mu over every non-air voxel, 1/mm. */
   double
   GetTotalMuSum() const

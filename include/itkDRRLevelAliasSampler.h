@@ -19,8 +19,7 @@
 #define itkDRRLevelAliasSampler_h
 
 #include "itkDRRAliasTable.h"
-#include "itkDRRAttenuationLevels.h"
-#include "itkDRRPointSampler.h"
+#include "itkDRRLevelSampler.h"
 
 #include <vector>
 
@@ -38,22 +37,18 @@ namespace itk
  *
  * \ingroup PointBasedDRR
  */
-class PointBasedDRR_EXPORT DRRLevelAliasSampler : public DRRPointSampler
+class PointBasedDRR_EXPORT DRRLevelAliasSampler : public DRRLevelSampler
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRLevelAliasSampler);
 
   using Self = DRRLevelAliasSampler;
-  using Superclass = DRRPointSampler;
+  using Superclass = DRRLevelSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(DRRLevelAliasSampler, DRRPointSampler);
-
-  /** Number of bins used for floating-point volumes without level keys. Default 4096. */
-  itkSetMacro(NumberOfBins, unsigned int);
-  itkGetConstMacro(NumberOfBins, unsigned int);
+  itkTypeMacro(DRRLevelAliasSampler, DRRLevelSampler);
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;
@@ -67,13 +62,6 @@ public:
   size_t
   GetTableSizeInBytes() const override;
 
-  /** Number of non-empty levels. */
-  size_t
-  GetNumberOfLevels() const
-  {
-    return m_Levels.GetNumberOfLevels();
-  }
-
 protected:
   DRRLevelAliasSampler() = default;
   ~DRRLevelAliasSampler() override = default;
@@ -81,9 +69,7 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  unsigned int         m_NumberOfBins{ 4096 };
-  DRRAttenuationLevels m_Levels;
-  DRRAliasTable        m_AliasTable;
+  DRRAliasTable m_AliasTable;
 };
 } // namespace itk
 

@@ -19,8 +19,7 @@
 #define itkDRRMetropolisSampler_h
 
 #include "itkDRRAliasTable.h"
-#include "itkDRRAttenuationLevels.h"
-#include "itkDRRPointSampler.h"
+#include "itkDRRLevelSampler.h"
 
 namespace itk
 {
@@ -38,26 +37,22 @@ namespace itk
  *
  * \ingroup PointBasedDRR
  */
-class PointBasedDRR_EXPORT DRRMetropolisSampler : public DRRPointSampler
+class PointBasedDRR_EXPORT DRRMetropolisSampler : public DRRLevelSampler
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRMetropolisSampler);
 
   using Self = DRRMetropolisSampler;
-  using Superclass = DRRPointSampler;
+  using Superclass = DRRLevelSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(DRRMetropolisSampler, DRRPointSampler);
+  itkTypeMacro(DRRMetropolisSampler, DRRLevelSampler);
 
   /** Steps discarded at the start of every chain. Default 0 (the chain starts in its stationary law). */
   itkSetMacro(BurnIn, unsigned int);
   itkGetConstMacro(BurnIn, unsigned int);
-
-  /** Number of bins used for floating-point volumes without level keys. Default 4096. */
-  itkSetMacro(NumberOfBins, unsigned int);
-  itkGetConstMacro(NumberOfBins, unsigned int);
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;
@@ -103,12 +98,10 @@ private:
   void
   MeasureChain();
 
-  unsigned int         m_BurnIn{ 0 };
-  unsigned int         m_NumberOfBins{ 4096 };
-  DRRAttenuationLevels m_Levels;
-  DRRAliasTable        m_AliasTable;
-  double               m_AutocorrelationTime{ 1.0 };
-  double               m_AcceptanceRate{ 1.0 };
+  unsigned int  m_BurnIn{ 0 };
+  DRRAliasTable m_AliasTable;
+  double        m_AutocorrelationTime{ 1.0 };
+  double        m_AcceptanceRate{ 1.0 };
 };
 } // namespace itk
 

@@ -18,8 +18,7 @@
 #ifndef itkDRRPaperHybridSampler_h
 #define itkDRRPaperHybridSampler_h
 
-#include "itkDRRAttenuationLevels.h"
-#include "itkDRRPointSampler.h"
+#include "itkDRRLevelSampler.h"
 
 namespace itk
 {
@@ -37,18 +36,18 @@ namespace itk
  *
  * \ingroup PointBasedDRR
  */
-class PointBasedDRR_EXPORT DRRPaperHybridSampler : public DRRPointSampler
+class PointBasedDRR_EXPORT DRRPaperHybridSampler : public DRRLevelSampler
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRPaperHybridSampler);
 
   using Self = DRRPaperHybridSampler;
-  using Superclass = DRRPointSampler;
+  using Superclass = DRRLevelSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(DRRPaperHybridSampler, DRRPointSampler);
+  itkTypeMacro(DRRPaperHybridSampler, DRRLevelSampler);
 
   /** Russian roulette survival probability q in [0, 1]. Default 0.1. */
   itkSetClampMacro(RouletteSurvival, double, 0.0, 1.0);
@@ -58,10 +57,6 @@ public:
   itkSetMacro(UseExactWeights, bool);
   itkGetConstMacro(UseExactWeights, bool);
   itkBooleanMacro(UseExactWeights);
-
-  /** Number of bins used for floating-point volumes without level keys. Default 4096. */
-  itkSetMacro(NumberOfBins, unsigned int);
-  itkGetConstMacro(NumberOfBins, unsigned int);
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;
@@ -85,14 +80,12 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  double               m_RouletteSurvival{ 0.1 };
-  bool                 m_UseExactWeights{ true };
-  unsigned int         m_NumberOfBins{ 4096 };
-  DRRAttenuationLevels m_Levels;
-  std::vector<double>  m_Acceptance;   // p(l)
-  std::vector<double>  m_SizeFraction; // size_l / MeanSize
-  std::vector<double>  m_LevelWeight;  // exact weight of a point of level l (before the binning correction)
-  double               m_AttemptsPerPoint{ 0.0 };
+  double              m_RouletteSurvival{ 0.1 };
+  bool                m_UseExactWeights{ true };
+  std::vector<double> m_Acceptance;   // p(l)
+  std::vector<double> m_SizeFraction; // size_l / MeanSize
+  std::vector<double> m_LevelWeight;  // exact weight of a point of level l (before the binning correction)
+  double              m_AttemptsPerPoint{ 0.0 };
 };
 } // namespace itk
 

@@ -26,15 +26,8 @@ namespace itk
 void
 DRRLevelAliasSampler::Initialize(const DRRAttenuationVolume & volume)
 {
-  m_Levels.Build(volume, m_NumberOfBins);
-  std::vector<double> levelMass(m_Levels.GetNumberOfLevels());
-  for (size_t l = 0; l < levelMass.size(); ++l)
-  {
-    levelMass[l] = m_Levels.GetMuSum(l);
-  }
-  m_AliasTable.Build(levelMass);
-  m_TotalMass = m_Levels.GetTotalMuSum() * volume.GetVoxelVolume();
-  m_MaximumWeight = m_Levels.GetMaximumCorrection();
+  this->InitializeLevels(volume);
+  m_AliasTable.Build(m_Levels.GetMuSums());
   this->Modified();
 }
 
@@ -66,8 +59,6 @@ void
 DRRLevelAliasSampler::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
-  os << indent << "NumberOfBins: " << m_NumberOfBins << std::endl;
-  os << indent << "NumberOfLevels: " << m_Levels.GetNumberOfLevels() << std::endl;
   os << indent << "TableSizeInBytes: " << this->GetTableSizeInBytes() << std::endl;
 }
 } // namespace itk

@@ -24,15 +24,8 @@ namespace itk
 void
 DRRMetropolisSampler::Initialize(const DRRAttenuationVolume & volume)
 {
-  m_Levels.Build(volume, m_NumberOfBins);
-  std::vector<double> levelMass(m_Levels.GetNumberOfLevels());
-  for (size_t l = 0; l < levelMass.size(); ++l)
-  {
-    levelMass[l] = m_Levels.GetMuSum(l);
-  }
-  m_AliasTable.Build(levelMass);
-  m_TotalMass = m_Levels.GetTotalMuSum() * volume.GetVoxelVolume();
-  m_MaximumWeight = m_Levels.GetMaximumCorrection();
+  this->InitializeLevels(volume);
+  m_AliasTable.Build(m_Levels.GetMuSums());
   this->MeasureChain();
   this->Modified();
 }
@@ -110,7 +103,6 @@ DRRMetropolisSampler::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
   os << indent << "BurnIn: " << m_BurnIn << std::endl;
-  os << indent << "NumberOfLevels: " << m_Levels.GetNumberOfLevels() << std::endl;
   os << indent << "AcceptanceRate: " << m_AcceptanceRate << std::endl;
   os << indent << "AutocorrelationTime: " << m_AutocorrelationTime << std::endl;
 }

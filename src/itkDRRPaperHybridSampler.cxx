@@ -43,12 +43,11 @@ ProbabilityUniformAtMost(double x)
 void
 DRRPaperHybridSampler::Initialize(const DRRAttenuationVolume & volume)
 {
-  m_Levels.Build(volume, m_NumberOfBins);
+  this->InitializeLevels(volume);
   const size_t levels = m_Levels.GetNumberOfLevels();
   m_Acceptance.assign(levels, 0.0);
   m_SizeFraction.assign(levels, 0.0);
   m_LevelWeight.assign(levels, 0.0);
-  m_TotalMass = m_Levels.GetTotalMuSum() * volume.GetVoxelVolume();
   m_MaximumWeight = 1.0;
   m_AttemptsPerPoint = 0.0;
   if (levels == 0)
@@ -136,7 +135,6 @@ DRRPaperHybridSampler::PrintSelf(std::ostream & os, Indent indent) const
   Superclass::PrintSelf(os, indent);
   os << indent << "RouletteSurvival: " << m_RouletteSurvival << std::endl;
   os << indent << "UseExactWeights: " << m_UseExactWeights << std::endl;
-  os << indent << "NumberOfLevels: " << m_Levels.GetNumberOfLevels() << std::endl;
   os << indent << "AttemptsPerPoint: " << m_AttemptsPerPoint << std::endl;
 }
 } // namespace itk

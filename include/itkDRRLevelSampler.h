@@ -1,0 +1,83 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRLevelSampler_h
+#define itkDRRLevelSampler_h
+
+#include "itkDRRAttenuationLevels.h"
+#include "itkDRRPointSampler.h"
+
+namespace itk
+{
+/** \class DRRLevelSampler
+ * \brief Base of the samplers that draw a level, then a voxel uniformly inside it (the paper's hist[l]): holds the
+ * levels and builds them, with the total mass and the largest binning correction, in InitializeLevels().
+ *
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRLevelSampler : public DRRPointSampler
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(DRRLevelSampler);
+
+  using Self = DRRLevelSampler;
+  using Superclass = DRRPointSampler;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkTypeMacro(DRRLevelSampler, DRRPointSampler);
+
+  /** Number of bins used for floating-point volumes without level keys. Default 4096. */
+  itkSetMacro(NumberOfBins, unsigned int);
+  itkGetConstMacro(NumberOfBins, unsigned int);
+
+  /** Number of non-empty levels. */
+  size_t
+  GetNumberOfLevels() const
+  {
+    return m_Levels.GetNumberOfLevels();
+  }
+
+protected:
+  DRRLevelSampler() = default;
+  ~DRRLevelSampler() override = default;
+
+  /** Builds the levels of a volume; sets the total mass and, as the largest weight, the largest binning correction. */
+  void
+  InitializeLevels(const DRRAttenuationVolume & volume)
+  {
+    m_Levels.Build(volume, m_NumberOfBins);
+    m_TotalMass = m_Levels.GetTotalMuSum() * volume.GetVoxelVolume();
+    m_MaximumWeight = m_Levels.GetMaximumCorrection();
+  }
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override
+  {
+    Superclass::PrintSelf(os, indent);
+    os << indent << "NumberOfBins: " << m_NumberOfBins << std::endl;
+    os << indent << "NumberOfLevels: " << m_Levels.GetNumberOfLevels() << std::endl;
+  }
+
+  DRRAttenuationLevels m_Levels;
+
+private:
+  unsigned int m_NumberOfBins{ 4096 };
+};
+} // namespace itk
+
+#endif
