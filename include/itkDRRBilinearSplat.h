@@ -18,7 +18,6 @@
 #ifndef itkDRRBilinearSplat_h
 #define itkDRRBilinearSplat_h
 
-#include <cmath>
 #include <cstdint>
 
 namespace itk
@@ -32,33 +31,31 @@ namespace itk
  */
 struct DRRBilinearSplat
 {
-  template <typename TAdd>
-  static bool
-  Deposit(double column, double row, double weight, int64_t columns, int64_t rows, TAdd && add)
+  static constexpr double       Reach = 1.0;
+  static constexpr unsigned int Corners = 4;
+
+  static void
+  Locate(double column, double row, int32_t columns, int32_t rows, int32_t pixel[Corners], double share[Corners])
   {
-    const double c0 = std::floor(column);
-    const double r0 = std::floor(row);
-    if (c0 < -1.0 || r0 < -1.0 || c0 >= static_cast<double>(columns) || r0 >= static_cast<double>(rows))
-    {
-      return false;
-    }
-    const double  fc = column - c0;
-    const double  fr = row - r0;
-    const int64_t ic = static_cast<int64_t>(c0);
-    const int64_t ir = static_cast<int64_t>(r0);
-    const double  shares[4] = { (1.0 - fc) * (1.0 - fr), fc * (1.0 - fr), (1.0 - fc) * fr, fc * fr };
-    bool          landed = false;
+    // Shift by one pixel so that truncation is the floor wherever a corner can land (column > -1).
+    const double  c = column + 1.0;
+    const double  r = row + 1.0;
+    const bool    near = (c > 0.0) & (c < columns + 1.0) & (r > 0.0) & (r < rows + 1.0);
+    const double  cs = near ? c : 0.0;
+    const double  rs = near ? r : 0.0;
+    const int32_t c0 = static_cast<int32_t>(cs) - 1;
+    const int32_t r0 = static_cast<int32_t>(rs) - 1;
+    const double  fc = cs - (c0 + 1.0);
+    const double  fr = rs - (r0 + 1.0);
+    const double  weights[4] = { (1.0 - fc) * (1.0 - fr), fc * (1.0 - fr), (1.0 - fc) * fr, fc * fr };
     for (unsigned int corner = 0; corner < 4; ++corner)
     {
-      const int64_t pc = ic + (corner & 1u);
-      const int64_t pr = ir + (corner >> 1);
-      if (pc >= 0 && pr >= 0 && pc < columns && pr < rows && shares[corner] > 0.0)
-      {
-        add(pc + columns * pr, weight * shares[corner]);
-        landed = true;
-      }
+      const int32_t pc = c0 + static_cast<int32_t>(corner & 1u);
+      const int32_t pr = r0 + static_cast<int32_t>(corner >> 1);
+      const bool    inside = near & (pc >= 0) & (pr >= 0) & (pc < columns) & (pr < rows) & (weights[corner] > 0.0);
+      pixel[corner] = inside ? pc + columns * pr : -1;
+      share[corner] = inside ? weights[corner] : 0.0;
     }
-    return landed;
   }
 };
 } // namespace itk

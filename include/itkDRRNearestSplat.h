@@ -18,7 +18,6 @@
 #ifndef itkDRRNearestSplat_h
 #define itkDRRNearestSplat_h
 
-#include <cmath>
 #include <cstdint>
 
 namespace itk
@@ -26,26 +25,28 @@ namespace itk
 /** \class DRRNearestSplat
  * \brief Splat policy: the whole point goes to the pixel that contains it (unbiased for the pixel-area average).
  *
- * A splat policy provides Deposit(column, row, weight, columns, rows, add): it calls add(pixel, share of weight) for
- * every pixel the point reaches and returns whether it reached the detector. Register a new one with one case in
- * WithSplat() in itkDRRPointRenderer.cxx.
+ * A splat policy provides Reach (how far from a point, in pixels, the pixel centres it reaches can be), Corners (how
+ * many pixels a point can reach) and Locate(column, row, columns, rows, pixel, share): for each corner the pixel index
+ * (columns fastest) and the share of the point's weight, or pixel -1 and share 0 off the detector. Locate() must be
+ * branch-free (selects, no early exits) so that the renderer's loop over a batch vectorizes. Register a new policy
+ * with one case in WithSplat() in itkDRRPointRenderer.cxx.
  *
  * \ingroup PointBasedDRR
  */
 struct DRRNearestSplat
 {
-  template <typename TAdd>
-  static bool
-  Deposit(double column, double row, double weight, int64_t columns, int64_t rows, TAdd && add)
+  static constexpr double       Reach = 0.5;
+  static constexpr unsigned int Corners = 1;
+
+  static void
+  Locate(double column, double row, int32_t columns, int32_t rows, int32_t pixel[Corners], double share[Corners])
   {
-    const double c = std::floor(column + 0.5);
-    const double r = std::floor(row + 0.5);
-    if (c >= 0.0 && r >= 0.0 && c < static_cast<double>(columns) && r < static_cast<double>(rows))
-    {
-      add(static_cast<int64_t>(c) + columns * static_cast<int64_t>(r), weight);
-      return true;
-    }
-    return false;
+    const double c = column + 0.5;
+    const double r = row + 0.5;
+    const bool   inside = (c >= 0.0) & (c < columns) & (r >= 0.0) & (r < rows);
+    // Truncation is the floor on the detector; off it, convert a harmless 0 instead (no undefined conversion).
+    pixel[0] = inside ? static_cast<int32_t>(inside ? c : 0.0) + columns * static_cast<int32_t>(inside ? r : 0.0) : -1;
+    share[0] = inside ? 1.0 : 0.0;
   }
 };
 } // namespace itk

@@ -55,7 +55,7 @@ public:
   static double
   ToUnitInterval(uint32_t bits)
   {
-    return static_cast<double>(bits >> 8) * (1.0 / 16777216.0);
+    return static_cast<double>(static_cast<int32_t>(bits >> 8)) * (1.0 / 16777216.0); // signed: converts in SIMD
   }
 
   /** Uniform integer in [0, n) from 64 random bits (multiply-shift; non-uniformity below n / 2^64). */

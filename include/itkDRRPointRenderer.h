@@ -67,20 +67,23 @@ public:
 
   struct Result
   {
-    std::vector<double> LineIntegral;        // cols x rows, columns fastest
-    std::vector<double> StandardError;       // same layout
-    double              RoomMass{ 0.0 };     // mm^2
-    double              MinimumDepth{ 0.0 }; // mm; points nearer the source were dropped
+    std::vector<double> LineIntegral;           // cols x rows, columns fastest
+    std::vector<double> StandardError;          // same layout
+    double              RoomMass{ 0.0 };        // mm^2, of the whole volume
+    double              SampledRoomMass{ 0.0 }; // mm^2, of the part sampled (in the view, for culling samplers)
+    double              MinimumDepth{ 0.0 };    // mm; points nearer the source were dropped
     bool                SourceNearVolume{ false };
     uint64_t            PointsOnDetector{ 0 }; // points that landed on the detector (nearest pixel inside)
     uint64_t            NumberOfStrata{ 1 };   // 1: standard error from the points; more: from the strata
+    uint64_t            NumberOfSamples{ 0 };  // drawn: N, or R ceil(N / R) for samplers that interleave R strata
   };
 
-  /** Renders. The volume must be the one the sampler was initialized with. Progress goes to progressFilter (may be
-   * null), which is also checked for abort between chunks. */
+  /** Renders. The volume must be the one the sampler was initialized with; the sampler is culled to the view
+   * (DRRPointSampler::SetView()). Progress goes to progressFilter (may be null), which is also checked for abort
+   * between chunks. */
   static Result
   Render(const DRRAttenuationVolume & volume,
-         const DRRPointSampler &      sampler,
+         DRRPointSampler &            sampler,
          DRRPointProjection           projection,
          const Settings &             settings,
          MultiThreaderBase *          threader,

@@ -20,6 +20,7 @@
 
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRPhiloxRandom.h"
+#include "itkDRRPointProjection.h"
 #include "PointBasedDRRExport.h"
 
 namespace itk
@@ -62,20 +63,62 @@ public:
 
   /** Where a batch sits among the samples of a render. The samples [0, N) are cut into strata, independent
    * replicates of the render (one stratum unless the sampler's points are dependent, see
-   * HasIndependentSamples()); a batch lies inside one stratum. */
+   * HasIndependentSamples()). Strata are runs of consecutive samples, and a batch lies inside one; or, for samplers
+   * that InterleavesStrata(), NumberOfStrata strata share one run and the sampler says which stratum each sample
+   * belongs to. */
   struct SampleRange
   {
     uint64_t Seed{ 0 };
-    uint64_t First{ 0 };        // first sample of the batch
-    uint64_t Count{ 0 };        // samples in the batch
-    uint64_t Stratum{ 0 };      // index of the stratum
-    uint64_t StratumFirst{ 0 }; // first sample of the stratum
-    uint64_t StratumSize{ 0 };  // samples in the stratum
+    uint64_t First{ 0 };          // first sample of the batch
+    uint64_t Count{ 0 };          // samples in the batch
+    uint64_t Stratum{ 0 };        // index of the run (of the stratum, unless interleaved)
+    uint64_t StratumFirst{ 0 };   // first sample of the run
+    uint64_t StratumSize{ 0 };    // samples in the run
+    uint64_t NumberOfStrata{ 1 }; // strata interleaved in the run (each of StratumSize / NumberOfStrata samples)
   };
 
   /** Fills voxelIndex[0 .. range.Count) (linear index, x fastest) and weight[0 .. range.Count). */
   virtual void
   GenerateBatch(DRRPhiloxRandom & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const = 0;
+
+  /** Where a sampler left off in a chunk: the renderer hands the same cursor to the consecutive batches of one chunk
+   * (invalid at the start of every chunk), so a sampler that walks its tables in order need not search them again.
+   * Only the sampler reads its contents; what it draws must not depend on them (only on the range), which keeps a
+   * render independent of the threads. */
+  struct Cursor
+  {
+    bool     Valid{ false };
+    uint64_t Stratum{ 0 };
+    uint64_t Position[4]{};
+    double   Mass[2]{};
+  };
+
+  /** What GenerateCoordinates() fills, one entry per sample of the range: voxel coordinates (i, j, k), weights, the
+   * stratum of each sample (interleaving samplers only) and the jitter (ProvidesJitter() samplers only). I, J and K
+   * have room for CoordinateSlack entries past the range, which a sampler may overwrite (branch-free stores). */
+  static constexpr uint64_t CoordinateSlack = 8;
+  struct CoordinateBatch
+  {
+    uint32_t * I;
+    uint32_t * J;
+    uint32_t * K;
+    double *   Weight;
+    uint32_t * Stratum;
+    uint32_t * JitterX;
+    uint32_t * JitterY;
+    uint32_t * JitterZ;
+  };
+
+  /** True if the sampler implements GenerateCoordinates(), which then replaces GenerateBatch() in renders: voxel
+   * coordinates instead of linear indices (no divisions), and a cursor (no search per batch). */
+  virtual bool
+  GeneratesCoordinates() const
+  {
+    return false;
+  }
+  virtual void
+  GenerateCoordinates(const SampleRange &, Cursor &, const CoordinateBatch &) const
+  {}
 
   /** True (default) if the points are independent draws: the renderer then estimates the standard error from the
    * points themselves. False (stratified, Markov chains): from the spread of independent strata. */
@@ -85,19 +128,24 @@ public:
     return true;
   }
 
-  /** True if the sampler also chooses where inside the voxel each point goes (GenerateJitter()); false (default):
-   * the renderer draws the reconstruction kernel's offsets from an independent stream. */
+  /** True if the sampler also chooses where inside the voxel each point goes (GenerateCoordinates() then fills the
+   * jitter: one uniform 32-bit word per sample and axis, each uniform on its own so that the kernel's offsets keep
+   * their law, the point its density); false (default): the renderer draws the kernel's offsets from an independent
+   * stream. Only for samplers that GeneratesCoordinates(). */
   virtual bool
   ProvidesJitter() const
   {
     return false;
   }
 
-  /** For ProvidesJitter() samplers: 3 uniform 32-bit words per sample of the range (x, y, z), each uniform on its own
-   * so that the kernel's offsets keep their law, the point its density. */
-  virtual void
-  GenerateJitter(const SampleRange &, uint32_t * /* bits, 3 per sample */) const
-  {}
+  /** True if the sampler draws its strata as one run, telling the stratum of every sample (GenerateCoordinates()),
+   * so that one walk through its tables serves all strata. The renderer then draws ceil(N / R) samples per stratum.
+   * Only for dependent samplers that GeneratesCoordinates(). */
+  virtual bool
+  InterleavesStrata() const
+  {
+    return false;
+  }
 
   /** For dependent samplers, the number of strata that serves them best (the renderer's default). 16 gives a steady
    * standard-error image (15 degrees of freedom); a stratified sampler loses accuracy with every extra stratum. */
@@ -105,6 +153,22 @@ public:
   GetPreferredNumberOfStrata() const
   {
     return 16;
+  }
+
+  /** Frustum culling: restricts sampling to the voxels whose points can land on the detector of the view (a point
+   * can move kernelReach voxels from its voxel centre and share itself with pixels up to pixelReach pixels from its
+   * own), or lifts the restriction (null projection). Unbiased: the voxels left out contribute nothing to any pixel.
+   * Default: no culling. A sampler culls for one view at a time. */
+  virtual void
+  SetView(const DRRPointProjection * /* projection */, double /* kernelReach */, double /* pixelReach */)
+  {}
+
+  /** The attenuation mass (mm^2, volume frame) the sampler draws from: GetTotalMass(), or the part inside the view
+   * after SetView(). */
+  virtual double
+  GetSampledMass() const
+  {
+    return m_TotalMass;
   }
 
   /** Bytes held by the sampling tables. */

@@ -26,17 +26,27 @@ namespace itk
 {
 /** \class DRRStratifiedSampler
  * \brief Systematic sampling of the attenuation mass along a Morton (Z-order) curve: one random offset, then equal
- * mass steps.
+ * mass steps; culled to the view frustum, walked in order.
  *
- * The non-air voxels are laid out in Morton order (8 x 8 x 8 bricks in Morton order, Morton order inside a brick) and
- * their mass is accumulated along it. The n points of a stratum sit at the masses (U + i) / n of the total, i = 0 ..
- * n - 1, with one uniform offset U per stratum: every voxel receives its expected count N mass_v / M to within one
- * point, so the count noise that dominates i.i.d. sampling is gone, and points spread evenly through space because the
- * curve keeps neighbours together. The estimate stays unbiased (each point is uniform over the mass for a uniform U)
- * and every weight is 1. Points are not independent: the renderer draws 4 strata (by default) with independent
- * offsets and estimates the standard error from their spread. Beyond the paper, whose future work named low-discrepancy
- * sampling. Inside the voxel, points follow a randomly shifted R2 low-discrepancy sequence (GenerateJitter()).
- * Tables: 4 bytes of index and 8 of cumulative mass per non-air voxel.
+ * The volume is cut into 8 x 8 x 8 bricks; the bricks that hold non-air voxels are laid out in Morton order, and the
+ * voxels of a brick in Morton order too. The n points of a stratum sit at the masses (U + i) / n of the mass along
+ * that curve, i = 0 .. n - 1, with one uniform offset U per stratum: every voxel receives its expected count
+ * N mass_v / M to within one point, so the count noise that dominates i.i.d. sampling is gone, and points spread
+ * evenly through space because the curve keeps neighbours together. The estimate stays unbiased (each point is
+ * uniform over the mass for a uniform U) and every weight is 1. Points are not independent: the renderer draws 4
+ * strata (by default) with independent offsets and estimates the standard error from their spread. Beyond the paper,
+ * whose future work named low-discrepancy sampling. Inside the voxel, points follow a randomly shifted R2
+ * low-discrepancy sequence.
+ *
+ * Model only what the view sees: SetView() keeps the bricks whose points can reach the detector (their corners,
+ * widened by the kernel's reach, projected; the convex hull of a box in front of the source is the hull of its
+ * corners), so a collimated or zoomed view spends no samples on the rest of the body. Unbiased, since the bricks
+ * left out contribute to no pixel.
+ *
+ * Speed: consecutive points walk the curve forward (a cursor carried through a chunk), skipping whole bricks and
+ * 64-voxel groups by their exact masses; no per-point search and no division. Tables: the mu of every non-air voxel
+ * (4 bytes) plus, per non-empty brick, its occupancy bits and group masses (about 150 bytes per brick, under half a
+ * byte per non-air voxel on CT).
  *
  * \ingroup PointBasedDRR
  */
@@ -63,6 +73,14 @@ public:
                 double *            weight) const override;
 
   bool
+  GeneratesCoordinates() const override
+  {
+    return true;
+  }
+  void
+  GenerateCoordinates(const SampleRange & range, Cursor & cursor, const CoordinateBatch & batch) const override;
+
+  bool
   HasIndependentSamples() const override
   {
     return false;
@@ -77,28 +95,92 @@ public:
   }
 
   /** Low-discrepancy jitter: the R2 sequence (steps of 1 / plastic number^k per axis) with a random shift per
-   * stratum, so each point is uniform in its voxel and consecutive points, which share voxels, spread evenly. */
+   * stratum, so each point is uniform in its voxel and consecutive points of a stratum spread evenly. */
   bool
   ProvidesJitter() const override
   {
     return true;
   }
+
+  /** The strata are walked together (one pass through the tables for all of them). */
+  bool
+  InterleavesStrata() const override
+  {
+    return true;
+  }
+
   void
-  GenerateJitter(const SampleRange & range, uint32_t * bits) const override;
+  SetView(const DRRPointProjection * projection, double kernelReach, double pixelReach) override;
+
+  double
+  GetSampledMass() const override
+  {
+    return m_SampledMass;
+  }
+
+  /** Non-empty bricks in the view after SetView(), and in the volume. */
+  size_t
+  GetNumberOfBricksInView() const
+  {
+    return m_ViewBricks.size();
+  }
+  size_t
+  GetNumberOfBricks() const
+  {
+    return m_Bricks.size();
+  }
 
   size_t
-  GetTableSizeInBytes() const override
-  {
-    return m_Order.size() * sizeof(uint32_t) + m_Cumulative.size() * sizeof(double);
-  }
+  GetTableSizeInBytes() const override;
 
 protected:
   DRRStratifiedSampler() = default;
   ~DRRStratifiedSampler() override = default;
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  std::vector<uint32_t> m_Order;      // non-air voxels in Morton order
-  std::vector<double>   m_Cumulative; // mu summed along the order, up to and including each voxel (1/mm)
+  /** A non-empty 8 x 8 x 8 brick: bit b of Occupancy[g] is voxel 64 g + b in Morton order inside the brick; its mu
+   * is m_Mu[FirstVoxel + the number of occupied voxels before it]. Group masses are exact sums of float mu (at most
+   * 64 terms spanning far fewer than 53 bits), the same in any order. */
+  struct Brick
+  {
+    uint64_t Occupancy[8];
+    double   GroupMass[8]; // sum of mu over the group's voxels, 1/mm
+    double   Mass;         // sum of the group masses, 1/mm
+    uint32_t FirstVoxel;
+    uint16_t Origin[3]; // brick coordinates (voxel index / 8)
+    uint8_t  LastGroup; // last group with a voxel
+  };
+
+  /* Cursor layout: Position[0] view brick, [1] group, [2] occupancy bits of the group from the current voxel on,
+   * [3] index of the current voxel in m_Mu; Mass[0] mass of the brick before the group, Mass[1] before the voxel. */
+
+  /** Moves the cursor forward to the voxel holding mass target (1/mm, along the view's curve). */
+  void
+  Locate(double target, Cursor & cursor) const;
+
+  /** Whether the cursor's voxel is not the last of the view; and moving to the next voxel along the curve. */
+  bool
+  HasNext(const Cursor & cursor) const;
+  void
+  Advance(Cursor & cursor) const;
+
+  /** Voxel index of the cursor's voxel. */
+  void
+  CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_t & j, uint32_t & k) const;
+
+  void
+  UseAllBricks();
+
+  std::vector<Brick>             m_Bricks;     // non-empty bricks, Morton order
+  std::vector<float>             m_Mu;         // mu of the non-air voxels, brick by brick, Morton order inside (1/mm)
+  std::vector<uint32_t>          m_ViewBricks; // the bricks sampled (all, or those in the view)
+  std::vector<double>            m_ViewPrefix; // mass before each view brick, and the total (1/mm)
+  DRRAttenuationVolume::SizeType m_Size{ { 0, 0, 0 } };
+  uint64_t                       m_ViewVoxels{ 0 };    // non-air voxels in the view bricks
+  double                         m_VoxelVolume{ 0.0 }; // mm^3
+  double                         m_SampledMass{ 0.0 }; // mm^2
 };
 } // namespace itk
 

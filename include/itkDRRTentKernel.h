@@ -20,6 +20,7 @@
 
 #include "itkDRRPhiloxRandom.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace itk
@@ -39,8 +40,10 @@ struct DRRTentKernel
   static double
   Offset(uint32_t bits)
   {
+    // One unconditional square root and a select: vectorizes.
     const double u = DRRPhiloxRandom::ToUnitInterval(bits);
-    return u < 0.5 ? std::sqrt(2.0 * u) - 1.0 : 1.0 - std::sqrt(2.0 * (1.0 - u));
+    const double root = std::sqrt(2.0 * std::min(u, 1.0 - u));
+    return u < 0.5 ? root - 1.0 : 1.0 - root;
   }
 };
 } // namespace itk

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRStratifiedSampler.h"
+#include "itkMultiThreaderBase.h"
 
 #include <algorithm>
 #include <array>
@@ -25,7 +26,8 @@ namespace itk
 {
 namespace
 {
-constexpr unsigned int brickBits = 3; // 8 x 8 x 8 voxels per brick
+constexpr uint64_t brickSide = 8; // voxels per brick side
+constexpr uint64_t voxelsPerBrick = brickSide * brickSide * brickSide;
 
 /** Interleaves the bits of x, y, z (x lowest): the Morton code. */
 uint64_t
@@ -39,73 +41,521 @@ MortonCode(uint64_t x, uint64_t y, uint64_t z)
   return code;
 }
 
-/** Offsets of the voxels of a brick, or of the bricks of the volume, in Morton order. */
-std::vector<std::array<uint64_t, 3>>
-MortonOrder(uint64_t nx, uint64_t ny, uint64_t nz)
+/** Voxel offsets (x | y << 3 | z << 6) of the 512 Morton positions inside a brick. */
+struct MortonInsideBrick
 {
-  std::vector<std::pair<uint64_t, std::array<uint64_t, 3>>> coded;
-  coded.reserve(nx * ny * nz);
-  for (uint64_t z = 0; z < nz; ++z)
+  MortonInsideBrick()
   {
-    for (uint64_t y = 0; y < ny; ++y)
+    for (uint64_t z = 0; z < brickSide; ++z)
     {
-      for (uint64_t x = 0; x < nx; ++x)
+      for (uint64_t y = 0; y < brickSide; ++y)
       {
-        coded.push_back({ MortonCode(x, y, z), { { x, y, z } } });
+        for (uint64_t x = 0; x < brickSide; ++x)
+        {
+          const uint64_t code = MortonCode(x, y, z);
+          Offset[code] = static_cast<uint16_t>(x | y << 3 | z << 6);
+          Code[x | y << 3 | z << 6] = static_cast<uint16_t>(code);
+        }
       }
     }
   }
-  std::sort(coded.begin(), coded.end(), [](const auto & a, const auto & b) { return a.first < b.first; });
-  std::vector<std::array<uint64_t, 3>> order;
-  order.reserve(coded.size());
-  for (const auto & c : coded)
-  {
-    order.push_back(c.second);
-  }
-  return order;
+  uint16_t Offset[voxelsPerBrick]; // Morton position -> x | y << 3 | z << 6
+  uint16_t Code[voxelsPerBrick];   // x | y << 3 | z << 6 -> Morton position
+};
+
+const MortonInsideBrick &
+GetMortonInsideBrick()
+{
+  static const MortonInsideBrick table;
+  return table;
+}
+
+/** Lowest set bit. */
+unsigned int
+LowestBit(uint64_t bits)
+{
+  return static_cast<unsigned int>(__builtin_ctzll(bits));
+}
+
+/** Runs work(block) for blocks 0 .. numberOfBlocks - 1 on the default threader. */
+template <typename TWork>
+void
+ForEachBlock(uint64_t numberOfBlocks, TWork && work)
+{
+  auto threader = MultiThreaderBase::New();
+  threader->ParallelizeArray(
+    0, numberOfBlocks, [&](SizeValueType block) { work(static_cast<uint64_t>(block)); }, nullptr);
 }
 } // namespace
 
 void
 DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
 {
-  const auto &   size = volume.GetSize();
-  const float *  mu = volume.GetMuBuffer();
-  const uint64_t brick = uint64_t{ 1 } << brickBits;
+  const auto &  size = volume.GetSize();
+  const float * mu = volume.GetMuBuffer();
+  m_Size = size;
+  m_VoxelVolume = volume.GetVoxelVolume();
+  std::array<uint64_t, 3> bricksPerAxis;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    bricksPerAxis[a] = (size[a] + brickSide - 1) / brickSide;
+    if (bricksPerAxis[a] > std::numeric_limits<uint16_t>::max())
+    {
+      itkExceptionMacro("volumes of more than " << std::numeric_limits<uint16_t>::max() * brickSide
+                                                << " voxels along an axis are not supported (got " << size[a] << ")");
+    }
+  }
   if (volume.GetNumberOfVoxels() > std::numeric_limits<uint32_t>::max())
   {
     itkExceptionMacro("volumes of more than 2^32 - 1 voxels are not supported (got " << volume.GetNumberOfVoxels()
                                                                                      << ")");
   }
-  const auto bricks =
-    MortonOrder((size[0] + brick - 1) / brick, (size[1] + brick - 1) / brick, (size[2] + brick - 1) / brick);
-  const auto inside = MortonOrder(brick, brick, brick);
-  m_Order.clear();
-  m_Cumulative.clear();
-  double running = 0.0;
-  for (const auto & b : bricks)
-  {
-    for (const auto & o : inside)
+  const MortonInsideBrick & morton = GetMortonInsideBrick();
+
+  // Pass 1, one row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy and group masses. Group
+  // masses are exact sums (see Brick), so the order of this pass does not matter.
+  const uint64_t     numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
+  std::vector<Brick> grid(bricksPerAxis[0] * numberOfBrickRows);
+  ForEachBlock(numberOfBrickRows, [&](uint64_t brickRow) {
+    const uint64_t by = brickRow % bricksPerAxis[1];
+    const uint64_t bz = brickRow / bricksPerAxis[1];
+    Brick *        row = grid.data() + brickRow * bricksPerAxis[0];
+    for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
     {
-      const uint64_t x = b[0] * brick + o[0];
-      const uint64_t y = b[1] * brick + o[1];
-      const uint64_t z = b[2] * brick + o[2];
-      if (x >= size[0] || y >= size[1] || z >= size[2])
+      row[bx] = Brick{};
+      row[bx].Origin[0] = static_cast<uint16_t>(bx);
+      row[bx].Origin[1] = static_cast<uint16_t>(by);
+      row[bx].Origin[2] = static_cast<uint16_t>(bz);
+    }
+    for (uint64_t dz = 0; dz < brickSide && bz * brickSide + dz < size[2]; ++dz)
+    {
+      for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
       {
-        continue;
-      }
-      const uint64_t v = x + size[0] * (y + size[1] * z);
-      if (mu[v] > 0.0f)
-      {
-        running += mu[v];
-        m_Order.push_back(static_cast<uint32_t>(v));
-        m_Cumulative.push_back(running);
+        const float * line = mu + size[0] * (by * brickSide + dy + size[1] * (bz * brickSide + dz));
+        for (uint64_t x = 0; x < size[0]; ++x)
+        {
+          if (line[x] > 0.0f)
+          {
+            const uint16_t code = morton.Code[(x % brickSide) | dy << 3 | dz << 6];
+            Brick &        brick = row[x / brickSide];
+            brick.Occupancy[code >> 6] |= uint64_t{ 1 } << (code & 63u);
+            brick.GroupMass[code >> 6] += line[x];
+          }
+        }
       }
     }
+  });
+
+  // The non-empty bricks in Morton order, and where their voxels start.
+  std::vector<std::pair<uint64_t, uint64_t>> coded; // (Morton code, grid index)
+  for (uint64_t g = 0; g < grid.size(); ++g)
+  {
+    uint64_t occupied = 0;
+    for (const uint64_t word : grid[g].Occupancy)
+    {
+      occupied |= word;
+    }
+    if (occupied)
+    {
+      coded.emplace_back(MortonCode(grid[g].Origin[0], grid[g].Origin[1], grid[g].Origin[2]), g);
+    }
   }
-  m_TotalMass = running * volume.GetVoxelVolume();
+  std::sort(coded.begin(), coded.end());
+  m_Bricks.resize(coded.size());
+  uint64_t numberOfVoxels = 0;
+  double   totalMass = 0.0;
+  for (size_t b = 0; b < coded.size(); ++b)
+  {
+    Brick & brick = m_Bricks[b];
+    brick = grid[coded[b].second];
+    brick.FirstVoxel = static_cast<uint32_t>(numberOfVoxels);
+    brick.Mass = 0.0;
+    for (unsigned int g = 0; g < 8; ++g)
+    {
+      numberOfVoxels += static_cast<uint64_t>(__builtin_popcountll(brick.Occupancy[g]));
+      brick.Mass += brick.GroupMass[g];
+      brick.LastGroup = brick.Occupancy[g] ? static_cast<uint8_t>(g) : brick.LastGroup;
+    }
+    totalMass += brick.Mass;
+  }
+  std::vector<Brick>().swap(grid);
+
+  // Pass 2, fixed blocks of bricks: the mu of the occupied voxels in Morton order.
+  m_Mu.resize(numberOfVoxels);
+  constexpr uint64_t bricksPerBlock = 256;
+  ForEachBlock((m_Bricks.size() + bricksPerBlock - 1) / bricksPerBlock, [&](uint64_t block) {
+    const uint64_t end = std::min<uint64_t>(m_Bricks.size(), (block + 1) * bricksPerBlock);
+    for (uint64_t b = block * bricksPerBlock; b < end; ++b)
+    {
+      const Brick & brick = m_Bricks[b];
+      float *       out = m_Mu.data() + brick.FirstVoxel;
+      for (unsigned int g = 0; g < 8; ++g)
+      {
+        for (uint64_t bits = brick.Occupancy[g]; bits; bits &= bits - 1)
+        {
+          const uint16_t offset = morton.Offset[64 * g + LowestBit(bits)];
+          const uint64_t x = brick.Origin[0] * brickSide + (offset & 7u);
+          const uint64_t y = brick.Origin[1] * brickSide + ((offset >> 3) & 7u);
+          const uint64_t z = brick.Origin[2] * brickSide + (offset >> 6);
+          *out++ = mu[x + size[0] * (y + size[1] * z)];
+        }
+      }
+    }
+  });
+  m_TotalMass = totalMass * m_VoxelVolume;
   m_MaximumWeight = 1.0;
+  this->UseAllBricks();
   this->Modified();
+}
+
+void
+DRRStratifiedSampler::UseAllBricks()
+{
+  m_ViewBricks.resize(m_Bricks.size());
+  m_ViewPrefix.resize(m_Bricks.size() + 1);
+  double running = 0.0;
+  for (size_t b = 0; b < m_Bricks.size(); ++b)
+  {
+    m_ViewBricks[b] = static_cast<uint32_t>(b);
+    m_ViewPrefix[b] = running;
+    running += m_Bricks[b].Mass;
+  }
+  m_ViewPrefix[m_Bricks.size()] = running;
+  m_SampledMass = running * m_VoxelVolume;
+  m_ViewVoxels = m_Mu.size();
+}
+
+void
+DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kernelReach, double pixelReach)
+{
+  if (!projection)
+  {
+    this->UseAllBricks();
+    return;
+  }
+  // A point of brick b lies in [8 b - 0.5 - reach, 8 b + 7.5 + reach] per axis (continuous index, clipped to what the
+  // kernel can reach of the volume) and counts only if it lands within pixelReach of the detector's pixel centres.
+  const double margin = 1e-6; // pixels, for rounding
+  const double columnLow = -pixelReach - margin;
+  const double columnHigh = projection->GetNumberOfColumns() - 1.0 + pixelReach + margin;
+  const double rowLow = -pixelReach - margin;
+  const double rowHigh = projection->GetNumberOfRows() - 1.0 + pixelReach + margin;
+  m_ViewBricks.clear();
+  m_ViewPrefix.clear();
+  m_ViewVoxels = 0;
+  double running = 0.0;
+  for (size_t b = 0; b < m_Bricks.size(); ++b)
+  {
+    const Brick & brick = m_Bricks[b];
+    double        lower[3], upper[3];
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      const double first = static_cast<double>(brick.Origin[a]) * brickSide;
+      const double last = std::min(first + brickSide, static_cast<double>(m_Size[a])) - 1.0;
+      lower[a] = first - kernelReach;
+      upper[a] = last + kernelReach;
+    }
+    bool   visible = false;
+    double columnMin = std::numeric_limits<double>::infinity(), columnMax = -columnMin;
+    double rowMin = columnMin, rowMax = -columnMin;
+    for (unsigned int corner = 0; corner < 8 && !visible; ++corner)
+    {
+      const double p[3] = { corner & 1u ? upper[0] : lower[0],
+                            corner & 2u ? upper[1] : lower[1],
+                            corner & 4u ? upper[2] : lower[2] };
+      double column, row, depth;
+      projection->ProjectToDetectorPlane(p, column, row, depth);
+      // A brick that reaches the source plane has no bounded image: keep it.
+      visible = projection->IsPerspective() && !(depth > 0.0);
+      columnMin = std::min(columnMin, column);
+      columnMax = std::max(columnMax, column);
+      rowMin = std::min(rowMin, row);
+      rowMax = std::max(rowMax, row);
+    }
+    visible = visible || (columnMax >= columnLow && columnMin <= columnHigh && rowMax >= rowLow && rowMin <= rowHigh);
+    if (visible)
+    {
+      m_ViewBricks.push_back(static_cast<uint32_t>(b));
+      m_ViewPrefix.push_back(running);
+      running += brick.Mass;
+      m_ViewVoxels += (b + 1 < m_Bricks.size() ? m_Bricks[b + 1].FirstVoxel : m_Mu.size()) - brick.FirstVoxel;
+    }
+  }
+  m_ViewPrefix.push_back(running);
+  m_SampledMass = running * m_VoxelVolume;
+}
+
+void
+DRRStratifiedSampler::Locate(double target, Cursor & cursor) const
+{
+  const uint64_t numberOfViewBricks = m_ViewBricks.size();
+  uint64_t       b = cursor.Position[0];
+  if (!cursor.Valid || !(target < m_ViewPrefix[b + 1]))
+  {
+    // The brick with prefix <= target < next prefix (the last one if rounding put the target at the very end).
+    const auto first = m_ViewPrefix.begin() + static_cast<std::ptrdiff_t>(cursor.Valid ? b + 1 : 1);
+    b = static_cast<uint64_t>(std::upper_bound(first, m_ViewPrefix.end() - 1, target) - m_ViewPrefix.begin()) - 1;
+    b = std::min(b, numberOfViewBricks - 1);
+    cursor.Valid = true;
+    cursor.Position[0] = b;
+    cursor.Position[1] = 0;
+    cursor.Position[2] = m_Bricks[m_ViewBricks[b]].Occupancy[0];
+    cursor.Position[3] = m_Bricks[m_ViewBricks[b]].FirstVoxel;
+    cursor.Mass[0] = 0.0;
+    cursor.Mass[1] = 0.0;
+  }
+  const Brick & brick = m_Bricks[m_ViewBricks[b]];
+  const double  rest = target - m_ViewPrefix[b]; // mass into the brick, 1/mm
+  uint64_t      group = cursor.Position[1];
+  if (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest)
+  {
+    // Skip whole groups, then start the walk at the first voxel of the group reached.
+    uint64_t voxel = brick.FirstVoxel;
+    for (uint64_t g = 0; g < group; ++g)
+    {
+      voxel += static_cast<uint64_t>(__builtin_popcountll(brick.Occupancy[g]));
+    }
+    do
+    {
+      cursor.Mass[0] += brick.GroupMass[group];
+      voxel += static_cast<uint64_t>(__builtin_popcountll(brick.Occupancy[group]));
+      ++group;
+    } while (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest);
+    cursor.Position[1] = group;
+    cursor.Position[2] = brick.Occupancy[group];
+    cursor.Position[3] = voxel;
+    cursor.Mass[1] = cursor.Mass[0];
+  }
+  // Walk the voxels of the group (never past its last one, which takes what rounding leaves).
+  uint64_t bits = cursor.Position[2];
+  uint64_t voxel = cursor.Position[3];
+  double   before = cursor.Mass[1];
+  for (uint64_t next = bits & (bits - 1); next != 0 && before + m_Mu[voxel] <= rest; next &= next - 1)
+  {
+    before += m_Mu[voxel];
+    bits = next;
+    ++voxel;
+  }
+  cursor.Position[2] = bits;
+  cursor.Position[3] = voxel;
+  cursor.Mass[1] = before;
+}
+
+inline void
+DRRStratifiedSampler::CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_t & j, uint32_t & k) const
+{
+  const Brick &  brick = m_Bricks[m_ViewBricks[cursor.Position[0]]];
+  const uint16_t offset = GetMortonInsideBrick().Offset[64 * cursor.Position[1] + LowestBit(cursor.Position[2])];
+  i = static_cast<uint32_t>(brick.Origin[0] * brickSide + (offset & 7u));
+  j = static_cast<uint32_t>(brick.Origin[1] * brickSide + ((offset >> 3) & 7u));
+  k = static_cast<uint32_t>(brick.Origin[2] * brickSide + (offset >> 6));
+}
+
+inline bool
+DRRStratifiedSampler::HasNext(const Cursor & cursor) const
+{
+  return (cursor.Position[2] & (cursor.Position[2] - 1)) ||
+         cursor.Position[1] < m_Bricks[m_ViewBricks[cursor.Position[0]]].LastGroup ||
+         cursor.Position[0] + 1 < m_ViewBricks.size();
+}
+
+inline void
+DRRStratifiedSampler::Advance(Cursor & cursor) const
+{
+  const Brick & brick = m_Bricks[m_ViewBricks[cursor.Position[0]]];
+  cursor.Mass[1] += m_Mu[cursor.Position[3]];
+  ++cursor.Position[3];
+  cursor.Position[2] &= cursor.Position[2] - 1;
+  if (cursor.Position[2])
+  {
+    return;
+  }
+  if (cursor.Position[1] < brick.LastGroup)
+  {
+    // Next non-empty group; the group start is the sum of the group masses, as in Locate().
+    do
+    {
+      cursor.Mass[0] += brick.GroupMass[cursor.Position[1]];
+      ++cursor.Position[1];
+    } while (!brick.Occupancy[cursor.Position[1]]);
+    cursor.Position[2] = brick.Occupancy[cursor.Position[1]];
+    cursor.Mass[1] = cursor.Mass[0];
+    return;
+  }
+  ++cursor.Position[0];
+  const Brick & next = m_Bricks[m_ViewBricks[cursor.Position[0]]];
+  cursor.Position[1] = 0;
+  while (!next.Occupancy[cursor.Position[1]])
+  {
+    ++cursor.Position[1];
+  }
+  cursor.Position[2] = next.Occupancy[cursor.Position[1]];
+  cursor.Position[3] = next.FirstVoxel;
+  cursor.Mass[0] = 0.0;
+  cursor.Mass[1] = 0.0;
+}
+
+namespace
+{
+/** One stratum of a run: its systematic offset U in [0, 1) and its R2 shifts (0.64 fixed point). */
+struct StratumStart
+{
+  double   Offset;
+  uint32_t Id;
+  uint64_t Shift[3];
+};
+
+/** The strata of a run, sorted by offset: in the merged walk, sample q of the run is point q / R of stratum
+ * [q % R] of this order, at mass (U + q / R) step, and the masses increase with q. */
+std::vector<StratumStart>
+StartStrata(const DRRPointSampler::SampleRange & range)
+{
+  const uint64_t            numberOfStrata = std::max<uint64_t>(range.NumberOfStrata, 1);
+  std::vector<StratumStart> strata(numberOfStrata);
+  for (uint64_t r = 0; r < numberOfStrata; ++r)
+  {
+    // Streams of the stratum's own: the same for every chunk on every thread.
+    const uint64_t                   id = numberOfStrata > 1 ? r : range.Stratum;
+    DRRPhiloxRandom                  offsetStream(range.Seed, id, 2);
+    const DRRPhiloxRandom::BlockType u = offsetStream.Next();
+    DRRPhiloxRandom                  shiftStream(range.Seed, id, 4);
+    const DRRPhiloxRandom::BlockType a = shiftStream.Next();
+    const DRRPhiloxRandom::BlockType b = shiftStream.Next();
+    strata[r].Offset = static_cast<double>((static_cast<uint64_t>(u[1]) << 21) ^ (u[0] >> 11)) * 0x1.0p-53;
+    strata[r].Id = static_cast<uint32_t>(id);
+    strata[r].Shift[0] = (uint64_t{ a[0] } << 32) | a[1];
+    strata[r].Shift[1] = (uint64_t{ a[2] } << 32) | a[3];
+    strata[r].Shift[2] = (uint64_t{ b[0] } << 32) | b[1];
+  }
+  std::sort(strata.begin(), strata.end(), [](const StratumStart & x, const StratumStart & y) {
+    return x.Offset < y.Offset || (x.Offset == y.Offset && x.Id < y.Id);
+  });
+  return strata;
+}
+} // namespace
+
+void
+DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
+                                          Cursor &                cursor,
+                                          const CoordinateBatch & batch) const
+{
+  if (m_ViewBricks.empty())
+  {
+    return;
+  }
+  if (cursor.Valid && cursor.Stratum != range.Stratum)
+  {
+    cursor.Valid = false;
+  }
+  cursor.Stratum = range.Stratum;
+  const std::vector<StratumStart> strata = StartStrata(range);
+  const uint64_t                  numberOfStrata = strata.size();
+  const double                    step = m_ViewPrefix.back() / static_cast<double>(range.StratumSize / numberOfStrata);
+  const uint64_t                  firstIndex = range.First - range.StratumFirst;
+  // Sample q of the run: point q / R of stratum strata[q % R]; kept as (point, position) to avoid divisions.
+  uint64_t point = firstIndex / numberOfStrata;
+  uint64_t position = firstIndex % numberOfStrata;
+  // R2 jitter, x_i = frac(shift + i alpha) per stratum, alpha_k = 1 / phi^k with phi the plastic number
+  // (phi^3 = phi + 1); in 0.64 fixed point the fractional part is the wrap-around of unsigned arithmetic.
+  constexpr uint64_t alpha[3] = { 0xC13FA9A902A6328Full, 0x91E10DA5C79E7B1Cull, 0x6E1EF25A386184E3ull };
+  const auto         emit = [&](uint64_t s, uint32_t i, uint32_t j, uint32_t k) {
+    const StratumStart & stratum = strata[position];
+    batch.I[s] = i;
+    batch.J[s] = j;
+    batch.K[s] = k;
+    batch.Weight[s] = 1.0;
+    batch.Stratum[s] = stratum.Id;
+    batch.JitterX[s] = static_cast<uint32_t>((stratum.Shift[0] + point * alpha[0]) >> 32);
+    batch.JitterY[s] = static_cast<uint32_t>((stratum.Shift[1] + point * alpha[1]) >> 32);
+    batch.JitterZ[s] = static_cast<uint32_t>((stratum.Shift[2] + point * alpha[2]) >> 32);
+    if (++position == numberOfStrata)
+    {
+      position = 0;
+      ++point;
+    }
+  };
+  const auto target = [&]() { return (strata[position].Offset + static_cast<double>(point)) * step; };
+
+  if (range.StratumSize < m_ViewVoxels / 2)
+  {
+    // Sparse: samples are many voxels apart; find each.
+    for (uint64_t s = 0; s < range.Count; ++s)
+    {
+      this->Locate(target(), cursor);
+      uint32_t i, j, k;
+      this->CoordinatesAt(cursor, i, j, k);
+      emit(s, i, j, k);
+    }
+    return;
+  }
+  // Dense: walk the voxels once for all strata and give each voxel the samples whose masses fall in it (only the
+  // first sample of a chunk is searched for). The voxels come first, with stores of CoordinateSlack copies that need
+  // no branch on the count; then the strata and jitter of the samples.
+  if (!cursor.Valid)
+  {
+    this->Locate(target(), cursor);
+  }
+  // The number of samples below mass x is R floor(y) + #{strata with U < frac(y)}, y = x / step; offsets padded to
+  // a fixed count with 2 (never below a fraction) so that the count has no branch.
+  constexpr unsigned int paddedStrata = 8;
+  double                 offsets[paddedStrata];
+  for (unsigned int r = 0; r < paddedStrata; ++r)
+  {
+    offsets[r] = r < numberOfStrata ? strata[r].Offset : 2.0;
+  }
+  const auto countBelow = [&](double y) {
+    // Truncation is the floor here (y >= 0).
+    const int64_t whole = static_cast<int64_t>(y); // signed: one instruction
+    const double  fraction = y - static_cast<double>(whole);
+    uint64_t      below = static_cast<uint64_t>(whole) * numberOfStrata;
+    if (numberOfStrata <= paddedStrata)
+    {
+      for (unsigned int r = 0; r < paddedStrata; ++r)
+      {
+        below += offsets[r] < fraction ? 1 : 0;
+      }
+      return below;
+    }
+    for (const StratumStart & stratum : strata)
+    {
+      below += stratum.Offset < fraction ? 1 : 0;
+    }
+    return below;
+  };
+  const double   inverseStep = 1.0 / step;
+  const uint64_t endIndex = firstIndex + range.Count;
+  uint64_t       index = firstIndex;
+  while (index < endIndex)
+  {
+    const double   y = (m_ViewPrefix[cursor.Position[0]] + cursor.Mass[1] + m_Mu[cursor.Position[3]]) * inverseStep;
+    const bool     lastVoxel = !this->HasNext(cursor);
+    const uint64_t last = lastVoxel ? endIndex : std::min(countBelow(y), endIndex); // the last voxel takes the rest
+    const uint64_t samples = last > index ? last - index : 0;
+    uint32_t       i, j, k;
+    this->CoordinatesAt(cursor, i, j, k);
+    const uint64_t first = index - firstIndex;
+    for (uint64_t q = 0; q < CoordinateSlack; ++q)
+    {
+      batch.I[first + q] = i;
+      batch.J[first + q] = j;
+      batch.K[first + q] = k;
+    }
+    for (uint64_t q = CoordinateSlack; q < samples; ++q)
+    {
+      batch.I[first + q] = i;
+      batch.J[first + q] = j;
+      batch.K[first + q] = k;
+    }
+    index += samples;
+    if (index < endIndex)
+    {
+      this->Advance(cursor);
+    }
+  }
+  for (uint64_t s = 0; s < range.Count; ++s)
+  {
+    emit(s, batch.I[s], batch.J[s], batch.K[s]);
+  }
 }
 
 void
@@ -114,61 +564,36 @@ DRRStratifiedSampler::GenerateBatch(DRRPhiloxRandom &,
                                     uint64_t *          voxelIndex,
                                     double *            weight) const
 {
-  if (m_Order.empty())
+  Cursor                cursor;
+  const uint64_t        room = range.Count + CoordinateSlack;
+  std::vector<uint32_t> scratch(3 * room + 4 * range.Count);
+  uint32_t *            i = scratch.data();
+  uint32_t *            j = i + room;
+  uint32_t *            k = j + room;
+  uint32_t *            stratum = k + room;
+  uint32_t *            jitter = stratum + range.Count;
+  this->GenerateCoordinates(
+    range, cursor, { i, j, k, weight, stratum, jitter, jitter + range.Count, jitter + 2 * range.Count });
+  for (uint64_t s = 0; s < range.Count; ++s)
   {
-    return;
-  }
-  // One offset per stratum, from a stream of its own: the same for every chunk of the stratum on every thread.
-  DRRPhiloxRandom                  offsetStream(range.Seed, range.Stratum, 2);
-  const DRRPhiloxRandom::BlockType bits = offsetStream.Next();
-  const double   offset = static_cast<double>((static_cast<uint64_t>(bits[1]) << 21) ^ (bits[0] >> 11)) * 0x1.0p-53;
-  const double   step = m_Cumulative.back() / static_cast<double>(range.StratumSize);
-  const uint64_t last = m_Order.size() - 1;
-  const uint64_t firstIndex = range.First - range.StratumFirst;
-  uint64_t       position = static_cast<uint64_t>(
-    std::upper_bound(m_Cumulative.begin(), m_Cumulative.end(), (offset + static_cast<double>(firstIndex)) * step) -
-    m_Cumulative.begin());
-  for (uint64_t i = 0; i < range.Count; ++i)
-  {
-    const double target = (offset + static_cast<double>(firstIndex + i)) * step;
-    if (position < last && m_Cumulative[position] <= target)
-    {
-      // Gallop: points are dense (a step or two) at large N, sparse (thousands of voxels apart) at small N.
-      uint64_t low = position;
-      uint64_t stride = 1;
-      while (low + stride < last && m_Cumulative[low + stride] <= target)
-      {
-        low += stride;
-        stride *= 2;
-      }
-      const auto begin = m_Cumulative.begin() + static_cast<std::ptrdiff_t>(low + 1);
-      const auto end = m_Cumulative.begin() + static_cast<std::ptrdiff_t>(std::min(last, low + stride) + 1);
-      position = static_cast<uint64_t>(std::upper_bound(begin, end, target) - m_Cumulative.begin());
-    }
-    position = std::min(position, last);
-    voxelIndex[i] = m_Order[position];
-    weight[i] = 1.0;
+    voxelIndex[s] = i[s] + m_Size[0] * (j[s] + m_Size[1] * uint64_t{ k[s] });
   }
 }
-void
-DRRStratifiedSampler::GenerateJitter(const SampleRange & range, uint32_t * bits) const
+
+size_t
+DRRStratifiedSampler::GetTableSizeInBytes() const
 {
-  // R2: x_i = frac(shift + i alpha), alpha_k = 1 / phi^k with phi the plastic number (phi^3 = phi + 1). In 0.64 fixed
-  // point the fractional part is the wrap-around of unsigned arithmetic. The shift is uniform and new per stratum.
-  constexpr uint64_t               alpha[3] = { 0xC13FA9A902A6328Full, 0x91E10DA5C79E7B1Cull, 0x6E1EF25A386184E3ull };
-  DRRPhiloxRandom                  shiftStream(range.Seed, range.Stratum, 4);
-  const DRRPhiloxRandom::BlockType a = shiftStream.Next();
-  const DRRPhiloxRandom::BlockType b = shiftStream.Next();
-  const uint64_t                   shift[3] = { (uint64_t{ a[0] } << 32) | a[1],
-                                                (uint64_t{ a[2] } << 32) | a[3],
-                                                (uint64_t{ b[0] } << 32) | b[1] };
-  const uint64_t                   first = range.First - range.StratumFirst;
-  for (uint64_t i = 0; i < range.Count; ++i)
-  {
-    for (unsigned int axis = 0; axis < 3; ++axis)
-    {
-      bits[3 * i + axis] = static_cast<uint32_t>((shift[axis] + (first + i) * alpha[axis]) >> 32);
-    }
-  }
+  return m_Mu.size() * sizeof(float) + m_Bricks.size() * sizeof(Brick) + m_ViewBricks.capacity() * sizeof(uint32_t) +
+         m_ViewPrefix.capacity() * sizeof(double);
+}
+
+void
+DRRStratifiedSampler::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "Bricks (non-empty, 8^3 voxels): " << m_Bricks.size() << std::endl;
+  os << indent << "Bricks in the view: " << m_ViewBricks.size() << std::endl;
+  os << indent << "Non-air voxels: " << m_Mu.size() << std::endl;
+  os << indent << "SampledMass (mm^2): " << m_SampledMass << std::endl;
 }
 } // namespace itk

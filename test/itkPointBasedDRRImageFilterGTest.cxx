@@ -25,6 +25,7 @@
 #include "itkDRRSamplerFactory.h"
 #include "itkDRRLevelAliasSampler.h"
 #include "itkDRRPaperHybridSampler.h"
+#include "itkDRRStratifiedSampler.h"
 #include "itkCommand.h"
 #include "PointBasedDRRTestHelpers.h"
 
@@ -758,4 +759,162 @@ TEST(PointBasedDRRRandom, PhiloxMatchesRandom123KnownAnswers)
   EXPECT_EQ(R::Philox({ { 0x243f6a88u, 0x85a308d3u, 0x13198a2eu, 0x03707344u } }, { { 0xa4093822u, 0x299f31d0u } }),
             (R::BlockType{ { 0xd16cfe09u, 0x94fdccebu, 0x5001e420u, 0x24126ea1u } }));
 }
+/** 40 x 24 x 24 voxels of 1 mm (5 x 3 x 3 bricks of 8^3), centred on the origin: HU blocks of 4^3 voxels, a fifth
+ * of them air. */
+HUVolumeType::Pointer
+MakeBrickPhantom()
+{
+  HUVolumeType::SizeType    size = { { 40, 24, 24 } };
+  HUVolumeType::SpacingType spacing(1.0);
+  HUVolumeType::PointType   origin;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    origin[a] = -0.5 * (size[a] - 1.0);
+  }
+  HUVolumeType::DirectionType direction;
+  direction.SetIdentity();
+  auto         volume = MakeVolume<HUVolumeType>(size, spacing, origin, direction);
+  const short  levels[5] = { -1000, -500, 0, 300, 1200 };
+  unsigned int state = 777u;
+  for (itk::IndexValueType z = 0; z < 24; z += 4)
+  {
+    for (itk::IndexValueType y = 0; y < 24; y += 4)
+    {
+      for (itk::IndexValueType x = 0; x < 40; x += 4)
+      {
+        state = state * 1664525u + 1013904223u;
+        FillBlock(volume.GetPointer(), { { x, y, z } }, { { x + 3, y + 3, z + 3 } }, levels[(state >> 8) % 5]);
+      }
+    }
+  }
+  return volume;
+}
+
+/** A 5 x 4 detector of 2 mm pixels that sees about a quarter of the brick phantom's shadow (gantry 0: rays along y). */
+itk::DRRProjectionGeometry::Pointer
+MakeCollimatedGeometry(ProjectionEnum projection)
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetProjection(projection);
+  geometry->SetSourceToIsocenterDistance(100.0);
+  geometry->SetSourceToDetectorDistance(180.0);
+  geometry->SetGantryAngleInDegrees(0.0);
+  geometry->SetDetectorSize({ { 5, 4 } });
+  geometry->SetDetectorSpacing(itk::Vector<double, 2>(2.0));
+  itk::Vector<double, 2> offset;
+  offset[0] = 12.0; // mm on the detector: well off the centre, towards one end of the long (x) axis
+  offset[1] = 6.0;
+  geometry->SetDetectorOffset(offset);
+  return geometry;
+}
+
+/** The stratified sampler samples only the bricks that can reach a collimated detector (sparse and dense walks,
+ * both kernels, both beams) and stays unbiased: the mean of 64 seeds matches the exact pixel-area average within the
+ * z bound, and the standard-error output predicts the spread. */
+TEST(PointBasedDRRStratified, CullsToACollimatedViewAndStaysUnbiased)
+{
+  const auto volume = MakeBrickPhantom();
+  for (auto projection : { ProjectionEnum::Parallel, ProjectionEnum::Perspective })
+  {
+    const auto geometry = MakeCollimatedGeometry(projection);
+    for (auto kernel : { KernelEnum::Box, KernelEnum::Tent })
+    {
+      // Exact pixel averages: Richardson from 32^2 and 16^2 rays per pixel, its correction as the reference's error.
+      std::vector<double> images[2];
+      for (unsigned int level = 0; level < 2; ++level)
+      {
+        auto exact = itk::ExactDRRImageFilter<HUVolumeType, ProjectionType>::New();
+        exact->SetInput(volume);
+        exact->SetGeometry(geometry);
+        exact->SetReconstructionKernel(kernel);
+        exact->SetRaysPerPixelSide(level == 0 ? 32 : 16);
+        exact->Update();
+        images[level] = ToVector(exact->GetOutput());
+      }
+      for (uint64_t samples : { 2000, 200000 }) // below and above half the voxels in view: sparse and dense walks
+      {
+        std::ostringstream context;
+        context << projection << "/" << kernel << "/" << samples << " samples";
+        auto sampler = itk::DRRStratifiedSampler::New();
+        auto drr = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>::New();
+        drr->SetInput(volume);
+        drr->SetGeometry(geometry);
+        drr->SetReconstructionKernel(kernel);
+        drr->SetSampler(sampler);
+        drr->SetNumberOfSamples(samples);
+        const unsigned int  seeds = 64;
+        const size_t        pixels = images[0].size();
+        std::vector<double> sum(pixels, 0.0), sumOfSquares(pixels, 0.0), predicted(pixels, 0.0);
+        for (unsigned int seed = 0; seed < seeds; ++seed)
+        {
+          drr->SetSeed(seed);
+          drr->Update();
+          const auto values = ToVector(drr->GetOutput());
+          const auto errors = ToVector(drr->GetStandardErrorOutput());
+          for (size_t p = 0; p < pixels; ++p)
+          {
+            sum[p] += values[p];
+            sumOfSquares[p] += values[p] * values[p];
+            predicted[p] += errors[p] * errors[p] / seeds;
+          }
+        }
+        EXPECT_GT(sampler->GetNumberOfBricksInView(), 0u) << context.str();
+        EXPECT_LT(sampler->GetNumberOfBricksInView(), sampler->GetNumberOfBricks() / 2) << context.str();
+        EXPECT_LT(sampler->GetSampledMass(), 0.6 * sampler->GetTotalMass()) << context.str();
+        double worstZ = 0.0, observedVariance = 0.0, predictedVariance = 0.0;
+        for (size_t p = 0; p < pixels; ++p)
+        {
+          const double reference = images[0][p] + (images[0][p] - images[1][p]) / 3.0;
+          const double referenceError = std::abs(images[0][p] - images[1][p]) / 3.0;
+          const double mean = sum[p] / seeds;
+          const double variance = (sumOfSquares[p] - seeds * mean * mean) / (seeds - 1.0);
+          if (reference == 0.0)
+          {
+            EXPECT_EQ(mean, 0.0) << context.str() << " pixel " << p << " sees only air";
+            continue;
+          }
+          ASSERT_GT(variance, 0.0) << context.str() << " pixel " << p;
+          const double z = std::abs(mean - reference) / std::sqrt(variance / seeds + referenceError * referenceError);
+          worstZ = std::max(worstZ, z);
+          observedVariance += variance;
+          predictedVariance += predicted[p];
+        }
+        EXPECT_LT(worstZ, zBound) << context.str() << ": the mean over seeds is off the exact reference";
+        // Pooled over pixels, with a quarter of them counted as independent (a systematic sample couples neighbours).
+        EXPECT_NEAR(observedVariance / predictedVariance, 1.0, zBound * std::sqrt(2.0 / ((seeds - 1.0) * pixels / 4.0)))
+          << context.str() << ": the standard-error output does not predict the spread";
+      }
+    }
+  }
+}
+
+/** The merged walk of interleaved strata and the culled view are the same bit for bit on 1, 2 and 7 threads. */
+TEST(PointBasedDRRStratified, SameSeedSameBitsOnOneTwoAndSevenThreads)
+{
+  const auto volume = MakeBrickPhantom();
+  for (uint64_t samples : { 3001, 1000003 }) // sparse and dense; several chunks, the last one partial
+  {
+    std::vector<double> images[3];
+    const unsigned int  threads[3] = { 1, 2, 7 };
+    for (unsigned int t = 0; t < 3; ++t)
+    {
+      auto drr = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>::New();
+      drr->SetInput(volume);
+      drr->SetGeometry(MakeCollimatedGeometry(ProjectionEnum::Perspective));
+      drr->SetSampler(itk::DRRStratifiedSampler::New());
+      drr->SetSplat(SplatEnum::Bilinear);
+      drr->SetNumberOfSamples(samples);
+      drr->SetSeed(5);
+      drr->GetMultiThreader()->SetMaximumNumberOfThreads(threads[t]);
+      drr->SetNumberOfWorkUnits(threads[t]);
+      drr->Update();
+      images[t] = ToVector(drr->GetOutput());
+      const auto errors = ToVector(drr->GetStandardErrorOutput());
+      images[t].insert(images[t].end(), errors.begin(), errors.end());
+    }
+    EXPECT_EQ(images[0], images[1]) << samples;
+    EXPECT_EQ(images[0], images[2]) << samples;
+  }
+}
+
 } // namespace
