@@ -27,6 +27,14 @@
 #include <cstring>
 #include <memory>
 
+// Clones of the hot loop for wider vectors, picked once for the CPU at load time. Every clone gives the same bits:
+// contraction into FMA is off (-ffp-contract=off) and every operation used is correctly rounded.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define PointBasedDRR_VECTOR_CLONES __attribute__((target_clones("default", "avx2", "avx512f"), flatten))
+#else
+#define PointBasedDRR_VECTOR_CLONES
+#endif
+
 namespace itk
 {
 namespace
@@ -174,6 +182,13 @@ public:
   void
   Render(uint64_t chunk, const Strata & strata, Worker & worker) const override
   {
+    this->RenderChunk(chunk, strata, worker);
+  }
+
+private:
+  PointBasedDRR_VECTOR_CLONES void
+  RenderChunk(uint64_t chunk, const Strata & strata, Worker & worker) const
+  {
     const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
     DRRPhiloxRandom samplerStream(m_Settings.Seed, chunk, 0);
     DRRPhiloxRandom kernelStream(m_Settings.Seed, chunk, 1);
@@ -205,7 +220,6 @@ public:
     }
   }
 
-private:
   void
   DrawVoxels(DRRPhiloxRandom &                    stream,
              const DRRPointSampler::SampleRange & range,
