@@ -1555,76 +1555,80 @@ Benchmark::Scaling()
     }
   }
 
-  // 3. time against the detector size, same field of view
+  // 3. time against the detector size, same field of view (one sampler's filter alive at a time, so that the peak
+  // memory is that sampler's)
   std::cerr << "scaling: detector size" << std::endl;
   const double fieldOfView = g.Columns * g.Spacing;
+  Row          detectorBase = base;
+  detectorBase.Sweep = "detector";
+  detectorBase.Voxels = m_Volume->GetLargestPossibleRegion().GetNumberOfPixels();
+  const auto detectorRow = [&](unsigned cols) {
+    Row row = detectorBase;
+    row.Columns = cols;
+    row.DetectorRows = cols;
+    row.X = cols;
+    row.Note = "pixel " + Format(fieldOfView / cols, "%.4g") + " mm";
+    return row;
+  };
+  for (const auto & samplerName : m_Options.Samplers)
   {
-    std::vector<PointFilterType::Pointer> filters;
-    for (const auto & samplerName : m_Options.Samplers)
-    {
-      auto filter = PointFilterType::New();
-      filter->SetInput(m_Volume);
-      filter->SetSampler(itk::DRRSamplerFactory::Create(samplerName));
-      filter->SetSeed(m_Options.Seed);
-      filter->SetReconstructionKernel(m_Options.Kernels.front());
-      filter->SetSplat(m_Options.Splats.front());
-      filter->SetNumberOfSamples(samples);
-      filter->PrepareSampling();
-      filters.push_back(filter);
-    }
-    auto exact = ExactType::New();
-    exact->SetInput(m_Volume);
-    MuImageType::Pointer oriented;
-    if (m_Options.Itk)
-      oriented = WithIdentityDirection(MuImage(m_Volume, exact->GetAttenuationVolume()));
+    auto filter = PointFilterType::New();
+    filter->SetInput(m_Volume);
+    filter->SetSampler(itk::DRRSamplerFactory::Create(samplerName));
+    filter->SetSeed(m_Options.Seed);
+    filter->SetReconstructionKernel(m_Options.Kernels.front());
+    filter->SetSplat(m_Options.Splats.front());
+    filter->SetNumberOfSamples(samples);
+    filter->PrepareSampling();
     for (unsigned cols : m_Options.DetectorColumns)
     {
-      auto geometry = MakeGeometry(m_Volume, cols, cols, fieldOfView / cols);
-      Row  row = base;
-      row.Sweep = "detector";
-      row.Voxels = m_Volume->GetLargestPossibleRegion().GetNumberOfPixels();
-      row.Columns = cols;
-      row.DetectorRows = cols;
-      row.X = cols;
-      row.Note = "pixel " + Format(fieldOfView / cols, "%.4g") + " mm";
-      for (size_t s = 0; s < filters.size(); ++s)
-      {
-        Row r = row;
-        r.Method = "points";
-        r.Sampler = m_Options.Samplers[s];
-        r.Kernel = KernelName(m_Options.Kernels.front());
-        r.Splat = SplatName(m_Options.Splats.front());
-        r.Samples = samples;
-        filters[s]->SetGeometry(geometry);
-        r.Time = Measure(
-          [&] {
-            filters[s]->Modified();
-            filters[s]->Update();
-          },
-          m_Options.Runs,
-          m_Options.RepeatLimit);
-        Add(r);
-      }
-      Row r = row;
-      r.Method = "exact-siddon";
-      r.Kernel = "box";
-      r.Rays = 1;
-      exact->SetGeometry(geometry);
+      Row r = detectorRow(cols);
+      r.Method = "points";
+      r.Sampler = samplerName;
+      r.Kernel = KernelName(m_Options.Kernels.front());
+      r.Splat = SplatName(m_Options.Splats.front());
+      r.Samples = samples;
+      filter->SetGeometry(MakeGeometry(m_Volume, cols, cols, fieldOfView / cols));
       r.Time = Measure(
         [&] {
-          exact->Modified();
-          exact->Update();
+          filter->Modified();
+          filter->Update();
         },
         m_Options.Runs,
         m_Options.RepeatLimit);
       Add(r);
-      if (oriented)
-      {
-        Row i = row;
-        i.Method = "itk-raycast";
-        ItkRayCast(oriented, geometry, &i.Time);
-        Add(i);
-      }
+    }
+  }
+  auto exact = ExactType::New();
+  exact->SetInput(m_Volume);
+  for (unsigned cols : m_Options.DetectorColumns)
+  {
+    Row r = detectorRow(cols);
+    r.Method = "exact-siddon";
+    r.Kernel = "box";
+    r.Rays = 1;
+    exact->SetGeometry(MakeGeometry(m_Volume, cols, cols, fieldOfView / cols));
+    r.Time = Measure(
+      [&] {
+        exact->Modified();
+        exact->Update();
+      },
+      m_Options.Runs,
+      m_Options.RepeatLimit);
+    Add(r);
+  }
+  if (m_Options.Itk)
+  {
+    MuImageType::Pointer oriented = WithIdentityDirection(MuImage(m_Volume, exact->GetAttenuationVolume()));
+    exact = nullptr;
+    for (unsigned cols : m_Options.DetectorColumns)
+    {
+      if (!oriented)
+        break;
+      Row r = detectorRow(cols);
+      r.Method = "itk-raycast";
+      ItkRayCast(oriented, MakeGeometry(m_Volume, cols, cols, fieldOfView / cols), &r.Time);
+      Add(r);
     }
   }
 }
