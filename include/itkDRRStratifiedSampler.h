@@ -160,12 +160,6 @@ private:
   void
   Locate(double target, Cursor & cursor) const;
 
-  /** Whether the cursor's voxel is not the last of the view; and moving to the next voxel along the curve. */
-  bool
-  HasNext(const Cursor & cursor) const;
-  void
-  Advance(Cursor & cursor) const;
-
   /** Voxel index of the cursor's voxel. */
   void
   CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_t & j, uint32_t & k) const;

@@ -351,50 +351,6 @@ DRRStratifiedSampler::CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_
   k = static_cast<uint32_t>(brick.Origin[2] * brickSide + (offset >> 6));
 }
 
-inline bool
-DRRStratifiedSampler::HasNext(const Cursor & cursor) const
-{
-  return (cursor.Position[2] & (cursor.Position[2] - 1)) ||
-         cursor.Position[1] < m_Bricks[m_ViewBricks[cursor.Position[0]]].LastGroup ||
-         cursor.Position[0] + 1 < m_ViewBricks.size();
-}
-
-inline void
-DRRStratifiedSampler::Advance(Cursor & cursor) const
-{
-  const Brick & brick = m_Bricks[m_ViewBricks[cursor.Position[0]]];
-  cursor.Mass[1] += m_Mu[cursor.Position[3]];
-  ++cursor.Position[3];
-  cursor.Position[2] &= cursor.Position[2] - 1;
-  if (cursor.Position[2])
-  {
-    return;
-  }
-  if (cursor.Position[1] < brick.LastGroup)
-  {
-    // Next non-empty group; the group start is the sum of the group masses, as in Locate().
-    do
-    {
-      cursor.Mass[0] += brick.GroupMass[cursor.Position[1]];
-      ++cursor.Position[1];
-    } while (!brick.Occupancy[cursor.Position[1]]);
-    cursor.Position[2] = brick.Occupancy[cursor.Position[1]];
-    cursor.Mass[1] = cursor.Mass[0];
-    return;
-  }
-  ++cursor.Position[0];
-  const Brick & next = m_Bricks[m_ViewBricks[cursor.Position[0]]];
-  cursor.Position[1] = 0;
-  while (!next.Occupancy[cursor.Position[1]])
-  {
-    ++cursor.Position[1];
-  }
-  cursor.Position[2] = next.Occupancy[cursor.Position[1]];
-  cursor.Position[3] = next.FirstVoxel;
-  cursor.Mass[0] = 0.0;
-  cursor.Mass[1] = 0.0;
-}
-
 namespace
 {
 /** One stratum of a run: its systematic offset U in [0, 1) and its R2 shifts (0.64 fixed point). */
@@ -489,32 +445,28 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
     return;
   }
   // Dense: walk the voxels once for all strata and give each voxel the samples whose masses fall in it (only the
-  // first sample of a chunk is searched for). The voxels come first, with stores of CoordinateSlack copies that need
-  // no branch on the count; then the strata and jitter of the samples.
+  // first sample of a chunk is searched for); then the strata and jitter of the samples.
   if (!cursor.Valid)
   {
     this->Locate(target(), cursor);
   }
-  // The number of samples below mass x is R floor(y) + #{strata with U < frac(y)}, y = x / step; offsets padded to
-  // a fixed count with 2 (never below a fraction) so that the count has no branch.
-  constexpr unsigned int paddedStrata = 8;
+  // The number of samples below mass x is R floor(y) + #{strata with U < frac(y)}, y = x / step; offsets padded with
+  // 2 (never below a fraction) to a fixed count, so that the count has no branch.
+  constexpr unsigned int paddedStrata = 4;
   double                 offsets[paddedStrata];
   for (unsigned int r = 0; r < paddedStrata; ++r)
   {
     offsets[r] = r < numberOfStrata ? strata[r].Offset : 2.0;
   }
+  const bool few = numberOfStrata <= paddedStrata;
   const auto countBelow = [&](double y) {
-    // Truncation is the floor here (y >= 0).
-    const int64_t whole = static_cast<int64_t>(y); // signed: one instruction
+    const int64_t whole = static_cast<int64_t>(y); // the floor (y >= 0); signed: one instruction
     const double  fraction = y - static_cast<double>(whole);
     uint64_t      below = static_cast<uint64_t>(whole) * numberOfStrata;
-    if (numberOfStrata <= paddedStrata)
+    if (few)
     {
-      for (unsigned int r = 0; r < paddedStrata; ++r)
-      {
-        below += offsets[r] < fraction ? 1 : 0;
-      }
-      return below;
+      return below + (offsets[0] < fraction ? 1 : 0) + (offsets[1] < fraction ? 1 : 0) +
+             (offsets[2] < fraction ? 1 : 0) + (offsets[3] < fraction ? 1 : 0);
     }
     for (const StratumStart & stratum : strata)
     {
@@ -522,36 +474,81 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
     }
     return below;
   };
-  const double   inverseStep = 1.0 / step;
-  const uint64_t endIndex = firstIndex + range.Count;
-  uint64_t       index = firstIndex;
+  const double              inverseStep = 1.0 / step;
+  const uint64_t            endIndex = firstIndex + range.Count;
+  const MortonInsideBrick & morton = GetMortonInsideBrick();
+  const float *             mu = m_Mu.data();
+  uint64_t                  index = firstIndex;
+  // The cursor (see Locate()) in locals: it changes at every voxel.
+  uint64_t b = cursor.Position[0], group = cursor.Position[1], bits = cursor.Position[2], voxel = cursor.Position[3];
+  double   groupStart = cursor.Mass[0], before = cursor.Mass[1];
   while (index < endIndex)
   {
-    const double   y = (m_ViewPrefix[cursor.Position[0]] + cursor.Mass[1] + m_Mu[cursor.Position[3]]) * inverseStep;
-    const bool     lastVoxel = !this->HasNext(cursor);
-    const uint64_t last = lastVoxel ? endIndex : std::min(countBelow(y), endIndex); // the last voxel takes the rest
-    const uint64_t samples = last > index ? last - index : 0;
-    uint32_t       i, j, k;
-    this->CoordinatesAt(cursor, i, j, k);
-    const uint64_t first = index - firstIndex;
-    for (uint64_t q = 0; q < CoordinateSlack; ++q)
+    const Brick &  brick = m_Bricks[m_ViewBricks[b]];
+    const double   base = m_ViewPrefix[b];
+    const bool     lastGroupOfView = b + 1 == m_ViewBricks.size() && group == brick.LastGroup;
+    const uint32_t corner[3] = { brick.Origin[0] * uint32_t{ brickSide },
+                                 brick.Origin[1] * uint32_t{ brickSide },
+                                 brick.Origin[2] * uint32_t{ brickSide } };
+    // The voxels left in the group; the last voxel of the view takes what rounding leaves.
+    for (; bits; bits &= bits - 1, ++voxel)
     {
-      batch.I[first + q] = i;
-      batch.J[first + q] = j;
-      batch.K[first + q] = k;
+      const double   end = before + mu[voxel];
+      const bool     lastVoxel = lastGroupOfView && !(bits & (bits - 1));
+      const uint64_t last = lastVoxel ? endIndex : std::min<uint64_t>(countBelow((base + end) * inverseStep), endIndex);
+      if (last > index)
+      {
+        const uint16_t offset = morton.Offset[64 * group + LowestBit(bits)];
+        const uint32_t i = corner[0] + (offset & 7u), j = corner[1] + ((offset >> 3) & 7u),
+                       k = corner[2] + (offset >> 6);
+        for (uint64_t s = index - firstIndex; s < last - firstIndex; ++s)
+        {
+          batch.I[s] = i;
+          batch.J[s] = j;
+          batch.K[s] = k;
+        }
+        index = last;
+        if (index == endIndex)
+        {
+          break; // the next batch may have more samples in this voxel: stay on it
+        }
+      }
+      before = end;
     }
-    for (uint64_t q = CoordinateSlack; q < samples; ++q)
+    if (index == endIndex)
     {
-      batch.I[first + q] = i;
-      batch.J[first + q] = j;
-      batch.K[first + q] = k;
+      break;
     }
-    index += samples;
-    if (index < endIndex)
+    // Next group of the brick (its start is the sum of the group masses, as in Locate()), or the next brick.
+    if (group < brick.LastGroup)
     {
-      this->Advance(cursor);
+      do
+      {
+        groupStart += brick.GroupMass[group];
+        ++group;
+      } while (!brick.Occupancy[group]);
+      before = groupStart;
     }
+    else
+    {
+      ++b;
+      group = 0;
+      while (!m_Bricks[m_ViewBricks[b]].Occupancy[group])
+      {
+        ++group;
+      }
+      voxel = m_Bricks[m_ViewBricks[b]].FirstVoxel;
+      groupStart = 0.0;
+      before = 0.0;
+    }
+    bits = m_Bricks[m_ViewBricks[b]].Occupancy[group];
   }
+  cursor.Position[0] = b;
+  cursor.Position[1] = group;
+  cursor.Position[2] = bits;
+  cursor.Position[3] = voxel;
+  cursor.Mass[0] = groupStart;
+  cursor.Mass[1] = before;
   for (uint64_t s = 0; s < range.Count; ++s)
   {
     emit(s, batch.I[s], batch.J[s], batch.K[s]);
