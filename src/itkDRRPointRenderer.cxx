@@ -42,8 +42,8 @@ namespace
 constexpr uint64_t     samplesPerBatch = 512;
 constexpr unsigned int maximumCorners = 4; // pixels one point can reach (bilinear splat)
 
-/** Integer fixed-point accumulators of one worker: per pixel the sum of contributions of every stratum (stratum
- * major), and, with a single stratum, the sum of their squares. */
+/** Integer fixed-point accumulators of one worker: per pixel the sum of contributions of every stratum (pixel major:
+ * the strata of a pixel share a cache line), and, with a single stratum, the sum of their squares. */
 struct Accumulator
 {
   std::vector<int64_t> Sum;
@@ -216,7 +216,7 @@ private:
       }
       PlacePoints(range.Count, batch);
       m_Projection.ProjectBatch(range.Count, batch.X, batch.Y, batch.Z, batch.Column, batch.Row, batch.Perspective);
-      this->Splat(range.Count, batch, strata.GetNumberOfStrata() > 1, worker.Sums);
+      this->Splat(range.Count, batch, strata.GetNumberOfStrata(), worker.Sums);
     }
   }
 
@@ -273,7 +273,7 @@ private:
   /** Adds every point to the fixed-point sums of its stratum (and to the sums of squares, with one stratum): first
    * the pixel and fixed-point value of every corner (a loop that vectorizes), then the additions. */
   void
-  Splat(uint64_t count, Batch & batch, bool severalStrata, Accumulator & sums) const
+  Splat(uint64_t count, Batch & batch, uint64_t numberOfStrata, Accumulator & sums) const
   {
     constexpr unsigned int corners = TSplat::Corners;
     static_assert(corners <= maximumCorners, "Batch holds at most maximumCorners corners per point");
@@ -299,19 +299,18 @@ private:
         batch.Square[corners * s + c] = squares ? round(contribution * contribution * squareScale) : 0;
       }
     }
-    const uint64_t pixels = static_cast<uint64_t>(m_Columns * m_Rows);
-    int64_t *      sumOfSquares = sums.SumOfSquares.data();
-    uint64_t       landed = 0;
+    int64_t * sumOfSquares = sums.SumOfSquares.data();
+    uint64_t  landed = 0;
     for (uint64_t s = 0; s < count; ++s)
     {
-      int64_t * sum = sums.Sum.data() + (severalStrata ? batch.Stratum[s] * pixels : 0);
+      int64_t * sum = sums.Sum.data() + (numberOfStrata > 1 ? batch.Stratum[s] : 0);
       bool      reached = false;
       for (unsigned int c = 0; c < corners; ++c)
       {
         const int32_t pixel = batch.Pixel[corners * s + c];
         if (pixel >= 0)
         {
-          sum[pixel] += batch.Value[corners * s + c];
+          sum[pixel * numberOfStrata] += batch.Value[corners * s + c];
           if (squares)
           {
             sumOfSquares[pixel] += batch.Square[corners * s + c];
@@ -500,7 +499,7 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
       int64_t sum = 0;
       for (const Worker & worker : workers)
       {
-        sum += worker.Sums.Sum[r * numberOfPixels + p];
+        sum += worker.Sums.Sum[p * numberOfStrata + r];
       }
       stratumSums[r] = static_cast<double>(sum) * inverseSumScale;
       s += stratumSums[r];
