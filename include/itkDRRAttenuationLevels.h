@@ -21,6 +21,7 @@
 #include "itkDRRAttenuationVolume.h"
 #include "PointBasedDRRExport.h"
 
+#include <memory>
 #include <vector>
 
 namespace itk
@@ -28,16 +29,18 @@ namespace itk
 /** \class DRRAttenuationLevels
  * \brief The paper's hist[l]: the non-air voxels grouped by attenuation level, for the level samplers.
  *
- * With level keys (integer input such as HU) every level holds voxels of one mu. Without, mu is binned into
- * log-spaced levels and a voxel drawn uniformly from its level needs the correction weight mu_v / (mean mu of the
- * level) to stay exact. Memory: 4 bytes per non-air voxel and a few per level.
+ * A volume of levels (integer input such as HU) already holds them, one mu per level: they are used as they are,
+ * not copied. Otherwise mu is binned into NumberOfBins levels, log-spaced (through the float bits of mu, which grow
+ * with log2 mu piecewise linearly), and a voxel drawn uniformly from its level needs the correction weight
+ * mu_v / (mean mu of the level) to stay exact. Memory: 4 bytes per non-air voxel and 28 per level.
  *
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRAttenuationLevels
 {
 public:
-  /** Groups the voxels with mu > 0; numberOfBins is used only for volumes without level keys. */
+  /** Groups the voxels with mu > 0; numberOfBins is used only for volumes without levels. In parallel over fixed
+   * blocks of voxels merged in order: the same levels, voxel order and sums on any number of threads. */
   void
   Build(const DRRAttenuationVolume & volume, unsigned int numberOfBins);
 
@@ -74,11 +77,11 @@ public:
   {
     return m_TotalMuSum;
   }
-  /** Linear index of voxel number  of a level. */
+  /** Linear index of voxel number i of a level. */
   uint32_t
   GetVoxel(size_t level, uint64_t i) const
   {
-    return m_VoxelIndices[m_Start[level] + i];
+    return m_Voxels[m_Start[level] + i];
   }
   /** Exact-sampling correction of a voxel drawn uniformly from its level: 1 when levels are uniform. */
   double
@@ -91,22 +94,25 @@ public:
   {
     return m_MaximumCorrection;
   }
+  /** Bytes of the voxel lists (shared with a volume of levels, not copied) and the per-level tables. */
   size_t
   GetSizeInBytes() const;
 
 private:
   void
-  Group(const DRRAttenuationVolume & volume, const std::vector<uint32_t> & keys, uint32_t numberOfKeys);
+  BuildBinned(const DRRAttenuationVolume & volume, unsigned int numberOfBins);
 
-  const float *         m_Mu{ nullptr };
-  bool                  m_Uniform{ true };
-  double                m_MaximumCorrection{ 1.0 };
-  double                m_TotalMuSum{ 0.0 };
-  std::vector<uint32_t> m_VoxelIndices; // voxels grouped by level
-  std::vector<uint64_t> m_Start;        // first entry of each level in m_VoxelIndices
-  std::vector<uint32_t> m_Count;
-  std::vector<double>   m_MeanMu;
-  std::vector<double>   m_MuSum;
+  const float *               m_Mu{ nullptr };
+  bool                        m_Uniform{ true };
+  double                      m_MaximumCorrection{ 1.0 };
+  double                      m_TotalMuSum{ 0.0 };
+  const uint32_t *            m_Voxels{ nullptr };   // voxels grouped by level: the volume's, or m_OwnedVoxels
+  std::unique_ptr<uint32_t[]> m_OwnedVoxels;         // the binned levels' own lists
+  uint64_t                    m_NumberOfVoxels{ 0 }; // entries in m_Voxels: the non-air voxels
+  std::vector<uint64_t>       m_Start;               // first entry of each level in m_Voxels
+  std::vector<uint32_t>       m_Count;
+  std::vector<double>         m_MeanMu;
+  std::vector<double>         m_MuSum;
 };
 } // namespace itk
 

@@ -20,7 +20,6 @@
 
 #include "itkDRRImageFilterBase.h"
 #include "itkDRROutputConversion.h"
-#include "itkImageRegionConstIterator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -163,7 +162,6 @@ DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
   {
     size[a] = region.GetSize()[a];
   }
-  volume->Allocate(size);
   DRRAttenuationVolume::MatrixType indexToPhysical;
   for (unsigned int r = 0; r < 3; ++r)
   {
@@ -181,72 +179,10 @@ DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
   }
   volume->SetIndexToPhysical(indexToPhysical, origin);
 
-  const TransferFunctionType & transfer = *m_TransferFunction;
-  const InputPixelType *       values = input->GetBufferPointer();
-  float *                      mu = volume->GetMuBuffer();
-  const uint64_t               numberOfVoxels = volume->GetNumberOfVoxels();
-  auto                         reportVoxel = [&](uint64_t v) {
-    std::ostringstream where;
-    where << "voxel (" << v % size[0] << ", " << (v / size[0]) % size[1] << ", " << v / (size[0] * size[1]) << ")";
-    return where.str();
-  };
-  auto checkedMu = [&](double value, uint64_t v) {
-    if (!std::isfinite(value))
-    {
-      itkExceptionMacro("the input volume has a non-finite value (" << value << ") at " << reportVoxel(v));
-    }
-    const double attenuation = transfer.Evaluate(value);
-    if (!(attenuation >= 0.0) || !(attenuation <= std::numeric_limits<float>::max()))
-    {
-      itkExceptionMacro("negative or non-finite attenuation " << attenuation << " /mm from input value " << value
-                                                              << " at " << reportVoxel(v)
-                                                              << " (is the input in the units the transfer function "
-                                                                 "expects?)");
-    }
-    return static_cast<float>(attenuation);
-  };
-
-  // Integer-valued input (CT in HU, whatever the pixel type): one level per input value, mu from a look-up table of
-  // the values present. Truly continuous input is left to the sampler's binning.
-  const bool integral = std::numeric_limits<InputPixelType>::is_integer ||
-                        std::all_of(values, values + numberOfVoxels, [](InputPixelType value) {
-                          return std::isfinite(static_cast<double>(value)) &&
-                                 static_cast<double>(value) == std::floor(static_cast<double>(value));
-                        });
-  bool levelsBuilt = false;
-  if (integral)
-  {
-    const auto   range = std::minmax_element(values, values + numberOfVoxels);
-    const double lowest = static_cast<double>(*range.first);
-    const double span = static_cast<double>(*range.second) - lowest;
-    if (span < 1048576.0)
-    {
-      const size_t       numberOfLevels = static_cast<size_t>(span) + 1;
-      std::vector<float> table(numberOfLevels, -1.0f);
-      std::vector<bool>  present(numberOfLevels, false);
-      auto &             keys = volume->GetLevelKeys();
-      keys.resize(numberOfVoxels);
-      for (uint64_t v = 0; v < numberOfVoxels; ++v)
-      {
-        const uint32_t key = static_cast<uint32_t>(static_cast<double>(values[v]) - lowest);
-        if (!present[key])
-        {
-          table[key] = checkedMu(static_cast<double>(values[v]), v);
-          present[key] = true;
-        }
-        keys[v] = key;
-        mu[v] = table[key];
-      }
-      levelsBuilt = true;
-    }
-  }
-  if (!levelsBuilt)
-  {
-    for (uint64_t v = 0; v < numberOfVoxels; ++v)
-    {
-      mu[v] = checkedMu(static_cast<double>(values[v]), v);
-    }
-  }
+  // On the filter's threads, as many as its work units.
+  MultiThreaderBase * threader = this->GetMultiThreader();
+  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  volume->Build(input->GetBufferPointer(), size, *m_TransferFunction, threader);
   m_AttenuationVolume = volume;
   m_AttenuationVolumeInput = input;
   m_AttenuationVolumeInputTime = input->GetMTime();

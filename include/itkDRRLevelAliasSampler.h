@@ -30,10 +30,10 @@ namespace itk
  * to its mass (mu_l * count_l), then a voxel uniformly inside it.
  *
  * This is the paper's per-level voxel lists (hist[l]) with Walker's alias method in place of its rejection loop:
- * O(1) per sample, no rejection, 4 bytes per non-air voxel plus a few per level. With level keys (integer input,
- * e.g. HU), all voxels of a level share one mu and every weight is exactly 1. Without (floating-point input), mu is
- * binned into levels and each sample carries the exact correction mu_v / mean mu of its level, so the estimate stays
- * unbiased; the volume is then read at sample time.
+ * O(1) per sample, no rejection, 4 bytes per non-air voxel plus a few per level. With a volume of levels (integer
+ * input, e.g. HU), the lists are the volume's own, all voxels of a level share one mu and every weight is exactly 1.
+ * Without (non-integer input), mu is binned into levels and each sample carries the exact correction
+ * mu_v / mean mu of its level, so the estimate stays unbiased; the volume is then read at sample time.
  *
  * \ingroup PointBasedDRR
  */

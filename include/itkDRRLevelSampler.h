@@ -41,8 +41,8 @@ public:
 
   itkTypeMacro(DRRLevelSampler, DRRPointSampler);
 
-  /** Number of bins used for floating-point volumes without level keys. Default 4096. */
-  itkSetMacro(NumberOfBins, unsigned int);
+  /** Number of levels mu is binned into for volumes without levels (non-integer input), 1 .. 2^24. Default 4096. */
+  itkSetClampMacro(NumberOfBins, unsigned int, 1, 1u << 24);
   itkGetConstMacro(NumberOfBins, unsigned int);
 
   /** Number of non-empty levels. */

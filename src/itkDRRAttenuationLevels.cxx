@@ -16,14 +16,29 @@
  *
  *=========================================================================*/
 #include "itkDRRAttenuationLevels.h"
-#include "itkMultiThreaderBase.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace itk
 {
+namespace
+{
+/** The float bits of mu > 0: they grow with mu, piecewise linearly in log2 mu, 2^23 per octave. Denormals are
+ * scaled into the normal range first (exactly, by 2^64), which keeps the map increasing and continuous. */
+inline int64_t
+PseudoLog2(float mu)
+{
+  const bool  denormal = mu < std::numeric_limits<float>::min();
+  const float scaled = denormal ? mu * 18446744073709551616.0f : mu;
+  uint32_t    bits;
+  std::memcpy(&bits, &scaled, sizeof(bits));
+  return static_cast<int64_t>(bits) - (denormal ? (int64_t{ 64 } << 23) : 0);
+}
+} // namespace
+
 void
 DRRAttenuationLevels::Build(const DRRAttenuationVolume & volume, unsigned int numberOfBins)
 {
@@ -34,133 +49,120 @@ DRRAttenuationLevels::Build(const DRRAttenuationVolume & volume, unsigned int nu
                              << "volumes of more than 2^32 - 1 voxels are not supported (got " << numberOfVoxels
                              << ")");
   }
-  m_Mu = volume.GetMuBuffer();
-  const float * mu = volume.GetMuBuffer();
-
-  if (!volume.GetLevelKeys().empty())
+  m_Mu = nullptr;
+  m_Uniform = true;
+  m_MaximumCorrection = 1.0;
+  m_OwnedVoxels.reset();
+  m_Start.clear();
+  m_Count.clear();
+  m_MeanMu.clear();
+  m_MuSum.clear();
+  m_TotalMuSum = 0.0;
+  if (!volume.HasLevels())
   {
-    const std::vector<uint32_t> & keys = volume.GetLevelKeys();
-    this->Group(volume, keys, *std::max_element(keys.begin(), keys.end()) + 1);
+    this->BuildBinned(volume, numberOfBins);
+    return;
   }
-  else
+
+  // The volume's own levels: one mu each, so every correction is 1 and mu is never read.
+  const size_t numberOfLevels = volume.GetNumberOfLevels();
+  m_Voxels = volume.GetLevelVoxels();
+  m_NumberOfVoxels = volume.GetLevelStart(numberOfLevels);
+  for (size_t l = 0; l < numberOfLevels; ++l)
   {
-    // Log-spaced bins between the smallest and largest positive mu: the relative spread of mu inside a bin, and so
-    // the spread of the correction weights, is the same small ratio in every bin.
-    float smallest = std::numeric_limits<float>::max();
-    float largest = 0.0f;
-    for (uint64_t v = 0; v < numberOfVoxels; ++v)
-    {
-      if (mu[v] > 0.0f)
-      {
-        smallest = std::min(smallest, mu[v]);
-        largest = std::max(largest, mu[v]);
-      }
-    }
-    const uint32_t        numberOfKeys = std::max(1u, numberOfBins);
-    std::vector<uint32_t> keys(numberOfVoxels);
-    const double          logSmallest = largest > 0.0f ? std::log(static_cast<double>(smallest)) : 0.0;
-    const double          logRange = largest > smallest ? std::log(static_cast<double>(largest)) - logSmallest : 1.0;
-    for (uint64_t v = 0; v < numberOfVoxels; ++v)
-    {
-      const double position = mu[v] > 0.0f ? (std::log(static_cast<double>(mu[v])) - logSmallest) / logRange : 0.0;
-      keys[v] = std::min(numberOfKeys - 1, static_cast<uint32_t>(std::max(0.0, position * numberOfKeys)));
-    }
-    this->Group(volume, keys, numberOfKeys);
+    const uint64_t count = volume.GetLevelStart(l + 1) - volume.GetLevelStart(l);
+    const double   mu = volume.GetLevelMu(l);
+    m_Start.push_back(volume.GetLevelStart(l));
+    m_Count.push_back(static_cast<uint32_t>(count));
+    m_MeanMu.push_back(mu);
+    // Exact for counts below 2^29, where it equals the sum of the voxels one by one.
+    m_MuSum.push_back(static_cast<double>(count) * mu);
+    m_TotalMuSum += m_MuSum.back();
   }
 }
 
 void
-DRRAttenuationLevels::Group(const DRRAttenuationVolume &  volume,
-                            const std::vector<uint32_t> & keys,
-                            uint32_t                      numberOfKeys)
+DRRAttenuationLevels::BuildBinned(const DRRAttenuationVolume & volume, unsigned int numberOfBins)
 {
   const float *  mu = volume.GetMuBuffer();
   const uint64_t numberOfVoxels = volume.GetNumberOfVoxels();
+  m_Mu = mu;
+  m_Voxels = nullptr;
+  m_NumberOfVoxels = 0;
+  if (!(volume.ComputeMaximumMu() > 0.0))
+  {
+    return;
+  }
 
-  // Counting sort of the non-air voxels by key, in parallel over fixed blocks of consecutive voxels. The blocks
-  // depend on the volume alone, never on the threads, and are merged in order: the same levels, in the same voxel
-  // order, with the same sums, on any number of threads.
+  // Log-spaced bins between the smallest and largest positive mu: the relative spread of mu inside a bin, and so
+  // the spread of the correction weights, is about the same small ratio in every bin. Air takes the extra key
+  // numberOfKeys, which keeps the loops below free of branches where air and tissue mix.
+  const uint32_t numberOfKeys = std::max(1u, numberOfBins);
+  const uint32_t airKey = numberOfKeys;
+  const int64_t  logSmallest = PseudoLog2(static_cast<float>(volume.GetSmallestPositiveMu()));
+  const double   keysPerLog =
+    static_cast<double>(numberOfKeys) /
+    static_cast<double>(PseudoLog2(static_cast<float>(volume.ComputeMaximumMu())) - logSmallest + 1);
+  const auto keyOf = [&](float m) {
+    const double position = std::max(0.0, static_cast<double>(PseudoLog2(m) - logSmallest) * keysPerLog);
+    return m > 0.0f ? std::min(numberOfKeys - 1, static_cast<uint32_t>(position)) : airKey;
+  };
+
+  // Counting sort of the non-air voxels by key over fixed blocks (the volume's, fewer if the per-block tallies
+  // would pass 256 MB), merged in block order.
   struct Tally
   {
-    std::vector<uint64_t> Count;
+    std::vector<uint32_t> Count;
     std::vector<double>   MuSum;
-    std::vector<float>    FirstMu;
+    std::vector<float>    SmallestMu;
     std::vector<float>    LargestMu;
-    bool                  Uniform{ true };
   };
-  const uint64_t bytesPerKey = 2 * sizeof(uint64_t) + 2 * sizeof(float);
+  const uint64_t bytesPerKey = sizeof(uint32_t) + sizeof(double) + 2 * sizeof(float);
   const uint64_t numberOfBlocks = std::max<uint64_t>(
-    1,
-    std::min<uint64_t>({ 64, numberOfVoxels / 65536 + 1, (uint64_t{ 1 } << 28) / (numberOfKeys * bytesPerKey + 1) }));
+    1, std::min<uint64_t>(volume.GetNumberOfBlocks(), (uint64_t{ 1 } << 28) / ((numberOfKeys + 1) * bytesPerKey)));
   const auto         blockBegin = [&](uint64_t b) { return numberOfVoxels * b / numberOfBlocks; };
   std::vector<Tally> tallies(numberOfBlocks);
-  auto               threader = MultiThreaderBase::New();
-  threader->ParallelizeArray(
-    0,
+  DRRAttenuationVolume::ParallelizeBlocks(
     numberOfBlocks,
-    [&](SizeValueType b) {
+    [&](uint64_t b) {
       Tally & tally = tallies[b];
-      tally.Count.assign(numberOfKeys, 0);
-      tally.MuSum.assign(numberOfKeys, 0.0);
-      tally.FirstMu.assign(numberOfKeys, -1.0f);
-      tally.LargestMu.assign(numberOfKeys, 0.0f);
-      for (uint64_t v = blockBegin(b); v < blockBegin(b + 1); ++v)
+      tally.Count.assign(numberOfKeys + 1, 0);
+      tally.MuSum.assign(numberOfKeys + 1, 0.0);
+      tally.SmallestMu.assign(numberOfKeys + 1, std::numeric_limits<float>::max());
+      tally.LargestMu.assign(numberOfKeys + 1, 0.0f);
+      const uint64_t end = blockBegin(b + 1);
+      for (uint64_t v = blockBegin(b); v < end; ++v)
       {
-        if (mu[v] > 0.0f)
-        {
-          const uint32_t key = keys[v];
-          ++tally.Count[key];
-          tally.MuSum[key] += mu[v];
-          tally.LargestMu[key] = std::max(tally.LargestMu[key], mu[v]);
-          if (tally.FirstMu[key] < 0.0f)
-          {
-            tally.FirstMu[key] = mu[v];
-          }
-          else if (tally.FirstMu[key] != mu[v])
-          {
-            tally.Uniform = false;
-          }
-        }
+        const float    m = mu[v];
+        const uint32_t key = keyOf(m);
+        ++tally.Count[key];
+        tally.MuSum[key] += m;
+        tally.SmallestMu[key] = std::min(tally.SmallestMu[key], m);
+        tally.LargestMu[key] = std::max(tally.LargestMu[key], m);
       }
     },
     nullptr);
 
   std::vector<uint64_t> countPerKey(numberOfKeys, 0);
   std::vector<double>   muSumPerKey(numberOfKeys, 0.0);
-  std::vector<float>    firstMuPerKey(numberOfKeys, -1.0f);
+  std::vector<float>    smallestMuPerKey(numberOfKeys, std::numeric_limits<float>::max());
   std::vector<float>    largestMuPerKey(numberOfKeys, 0.0f);
-  bool                  uniformLevels = true;
   for (const Tally & tally : tallies)
   {
-    uniformLevels = uniformLevels && tally.Uniform;
     for (uint32_t key = 0; key < numberOfKeys; ++key)
     {
-      if (tally.Count[key] == 0)
-      {
-        continue;
-      }
       countPerKey[key] += tally.Count[key];
       muSumPerKey[key] += tally.MuSum[key];
+      smallestMuPerKey[key] = std::min(smallestMuPerKey[key], tally.SmallestMu[key]);
       largestMuPerKey[key] = std::max(largestMuPerKey[key], tally.LargestMu[key]);
-      if (firstMuPerKey[key] < 0.0f)
-      {
-        firstMuPerKey[key] = tally.FirstMu[key];
-      }
-      else if (firstMuPerKey[key] != tally.FirstMu[key])
-      {
-        uniformLevels = false;
-      }
     }
   }
-  m_Uniform = uniformLevels;
 
+  // A level per non-empty key; uniform levels (one mu each) need no correction.
   std::vector<uint32_t> levelOfKey(numberOfKeys, std::numeric_limits<uint32_t>::max());
-  m_Start.clear();
-  m_Count.clear();
-  m_MeanMu.clear();
-  m_MuSum.clear();
-  uint64_t start = 0;
-  double   maximumWeight = 1.0;
+  uint64_t              start = 0;
+  double                maximumWeight = 1.0;
+  m_Uniform = true;
   for (uint32_t key = 0; key < numberOfKeys; ++key)
   {
     if (countPerKey[key] == 0)
@@ -173,53 +175,56 @@ DRRAttenuationLevels::Group(const DRRAttenuationVolume &  volume,
     m_Count.push_back(static_cast<uint32_t>(countPerKey[key]));
     m_MeanMu.push_back(meanMu);
     m_MuSum.push_back(muSumPerKey[key]);
+    m_TotalMuSum += muSumPerKey[key];
+    m_Uniform = m_Uniform && smallestMuPerKey[key] == largestMuPerKey[key];
     maximumWeight = std::max(maximumWeight, largestMuPerKey[key] / meanMu);
     start += countPerKey[key];
   }
   m_MaximumCorrection = m_Uniform ? 1.0 : maximumWeight;
 
-  // Each block's first slot per key follows the blocks before it; the counts become the fill positions.
+  // Each block's first slot per key follows the blocks before it; the counts become the fill positions, and the
+  // steps say which keys move on: air stays on a scratch slot of its own block, past the lists.
+  std::vector<uint32_t> step(numberOfKeys + 1, 1);
+  step[airKey] = 0;
   for (uint32_t key = 0; key < numberOfKeys; ++key)
   {
-    if (countPerKey[key] == 0)
-    {
-      continue;
-    }
-    uint64_t position = m_Start[levelOfKey[key]];
+    uint64_t position = countPerKey[key] > 0 ? m_Start[levelOfKey[key]] : 0;
     for (Tally & tally : tallies)
     {
-      const uint64_t count = tally.Count[key];
-      tally.Count[key] = position;
+      const uint32_t count = tally.Count[key];
+      tally.Count[key] = static_cast<uint32_t>(position);
       position += count;
     }
   }
-  m_VoxelIndices.assign(start, 0);
-  threader->ParallelizeArray(
-    0,
+  for (uint64_t b = 0; b < numberOfBlocks; ++b)
+  {
+    tallies[b].Count[airKey] = static_cast<uint32_t>(start + b);
+  }
+  // Written only here, first touched by the threads that fill it: no zero-fill.
+  m_OwnedVoxels.reset(new uint32_t[start + numberOfBlocks]);
+  m_Voxels = m_OwnedVoxels.get();
+  m_NumberOfVoxels = start;
+  uint32_t * voxels = m_OwnedVoxels.get();
+  DRRAttenuationVolume::ParallelizeBlocks(
     numberOfBlocks,
-    [&](SizeValueType b) {
-      std::vector<uint64_t> & fill = tallies[b].Count;
-      for (uint64_t v = blockBegin(b); v < blockBegin(b + 1); ++v)
+    [&](uint64_t b) {
+      uint32_t *     position = tallies[b].Count.data();
+      const uint64_t end = blockBegin(b + 1);
+      for (uint64_t v = blockBegin(b); v < end; ++v)
       {
-        if (mu[v] > 0.0f)
-        {
-          m_VoxelIndices[fill[keys[v]]++] = static_cast<uint32_t>(v);
-        }
+        const uint32_t key = keyOf(mu[v]);
+        const uint32_t slot = position[key];
+        voxels[slot] = static_cast<uint32_t>(v);
+        position[key] = slot + step[key];
       }
     },
     nullptr);
-
-  m_TotalMuSum = 0.0;
-  for (double m : m_MuSum)
-  {
-    m_TotalMuSum += m;
-  }
 }
 
 size_t
 DRRAttenuationLevels::GetSizeInBytes() const
 {
-  return m_VoxelIndices.size() * sizeof(uint32_t) +
+  return m_NumberOfVoxels * sizeof(uint32_t) +
          m_Count.size() * (sizeof(uint64_t) + sizeof(uint32_t) + 2 * sizeof(double));
 }
 } // namespace itk

@@ -16,10 +16,12 @@
  *
  *=========================================================================*/
 #include "itkDRRAttenuationVolume.h"
+#include "itkPlatformMultiThreader.h"
 #include "vnl/vnl_det.h"
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace itk
 {
@@ -30,12 +32,131 @@ DRRAttenuationVolume::DRRAttenuationVolume()
 }
 
 void
-DRRAttenuationVolume::Allocate(const SizeType & size)
+DRRAttenuationVolume::Reset(const SizeType & size)
 {
   m_Size = size;
-  m_Mu.assign(static_cast<size_t>(this->GetNumberOfVoxels()), 0.0f);
-  m_LevelKeys.clear();
+  m_Mu.reset();
+  m_MuReady.store(false, std::memory_order_release);
+  m_LevelMu.clear();
+  m_LevelStart.clear();
+  m_LevelVoxels.reset();
+  m_SmallestPositiveMu = 0.0f;
+  m_LargestMu = 0.0f;
   this->Modified();
+}
+
+uint64_t
+DRRAttenuationVolume::ComputeNumberOfBlocks(uint64_t numberOfVoxels)
+{
+  // At least 2^16 voxels per block keep the per-block work (a 2^16-entry histogram) small beside the block's; at
+  // most 128 blocks keep the per-block tables small and still balance the load of a few dozen threads.
+  return std::max<uint64_t>(1, std::min<uint64_t>(128, numberOfVoxels >> 16));
+}
+
+void
+DRRAttenuationVolume::ParallelizeBlocks(uint64_t                  numberOfBlocks,
+                                        const BlockFunctionType & function,
+                                        MultiThreaderBase *       threader)
+{
+  MultiThreaderBase::Pointer ownThreader;
+  if (threader == nullptr)
+  {
+    ownThreader = MultiThreaderBase::New();
+    threader = ownThreader.GetPointer();
+  }
+  // One task per worker, blocks handed out one at a time: a worker slowed down by other work takes fewer blocks.
+  const uint64_t workers = std::max<uint64_t>(
+    1,
+    std::min<uint64_t>(numberOfBlocks,
+                       std::min(threader->GetNumberOfWorkUnits(), threader->GetMaximumNumberOfThreads())));
+  std::atomic<uint64_t> next{ 0 };
+  if (workers == 1)
+  {
+    for (uint64_t b = 0; b < numberOfBlocks; ++b)
+    {
+      function(b);
+    }
+    return;
+  }
+  threader->ParallelizeArray(
+    0,
+    workers,
+    [&](SizeValueType) {
+      for (uint64_t b = next++; b < numberOfBlocks; b = next++)
+      {
+        function(b);
+      }
+    },
+    nullptr);
+}
+
+void
+DRRAttenuationVolume::ThrowFailure(const Failure & failure) const
+{
+  std::ostringstream where;
+  where << "voxel (" << failure.Voxel % m_Size[0] << ", " << (failure.Voxel / m_Size[0]) % m_Size[1] << ", "
+        << failure.Voxel / (m_Size[0] * m_Size[1]) << ")";
+  if (failure.NonFinite)
+  {
+    itkExceptionMacro("the input volume has a non-finite value (" << failure.Value << ") at " << where.str());
+  }
+  itkExceptionMacro("negative or non-finite attenuation " << failure.Attenuation << " /mm from input value "
+                                                          << failure.Value << " at " << where.str()
+                                                          << " (is the input in the units the transfer function "
+                                                             "expects?)");
+}
+
+const float *
+DRRAttenuationVolume::MaterializeMu() const
+{
+  std::lock_guard<std::mutex> lock(m_MuMutex);
+  if (m_MuReady.load(std::memory_order_acquire) || !this->HasLevels())
+  {
+    return m_Mu.get();
+  }
+  const uint64_t numberOfVoxels = this->GetNumberOfVoxels();
+  const size_t   numberOfLevels = m_LevelMu.size();
+  float *        mu = new float[numberOfVoxels];
+  // Each block first zeroes a run of voxels that fits the cache, then writes the voxels of every level in it,
+  // advancing one cursor per level through the level's increasing voxel list.
+  constexpr uint64_t run = uint64_t{ 1 } << 18;
+  // Platform threads: the first call may come from inside a pool thread (an exact projector's ray), where waiting
+  // for pool tasks could deadlock.
+  auto threader = PlatformMultiThreader::New();
+  ParallelizeBlocks(
+    this->GetNumberOfBlocks(),
+    [&](uint64_t b) {
+      const uint64_t        begin = this->GetBlockBegin(b);
+      const uint64_t        end = this->GetBlockBegin(b + 1);
+      const uint32_t *      voxels = m_LevelVoxels.get();
+      std::vector<uint64_t> cursor(numberOfLevels);
+      for (size_t l = 0; l < numberOfLevels; ++l)
+      {
+        cursor[l] = static_cast<uint64_t>(
+          std::lower_bound(voxels + m_LevelStart[l], voxels + m_LevelStart[l + 1], static_cast<uint32_t>(begin)) -
+          voxels);
+      }
+      for (uint64_t first = begin; first < end; first += run)
+      {
+        const uint64_t last = std::min(end, first + run);
+        std::fill(mu + first, mu + last, 0.0f);
+        for (size_t l = 0; l < numberOfLevels; ++l)
+        {
+          const float    levelMu = m_LevelMu[l];
+          const uint64_t levelEnd = m_LevelStart[l + 1];
+          uint64_t       c = cursor[l];
+          for (; c < levelEnd && voxels[c] < last; ++c)
+          {
+            mu[voxels[c]] = levelMu;
+          }
+          cursor[l] = c;
+        }
+      }
+    },
+    threader.GetPointer());
+  m_Mu.reset(mu);
+  m_MuReady.store(true, std::memory_order_release);
+  return mu;
 }
 
 void
@@ -53,21 +174,45 @@ DRRAttenuationVolume::GetVoxelVolume() const
 }
 
 double
-DRRAttenuationVolume::ComputeTotalMass() const
+DRRAttenuationVolume::ComputeMuSum() const
 {
-  // Sum per slice in double, then slices in order: fixed order, so the same bits on every run.
   double total = 0.0;
-  for (float mu : m_Mu)
+  if (this->HasLevels())
   {
-    total += mu;
+    // count * mu: exact in double for counts below 2^29 (mu has 24 bits), where it equals the sum of the level's
+    // voxels one by one; correctly rounded above.
+    for (size_t l = 0; l < m_LevelMu.size(); ++l)
+    {
+      total += static_cast<double>(m_LevelStart[l + 1] - m_LevelStart[l]) * static_cast<double>(m_LevelMu[l]);
+    }
+    return total;
   }
-  return total * this->GetVoxelVolume();
+  const float *       mu = this->GetMuBuffer();
+  const uint64_t      numberOfBlocks = this->GetNumberOfBlocks();
+  std::vector<double> blockSum(numberOfBlocks, 0.0);
+  ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      double         sum = 0.0;
+      const uint64_t end = this->GetBlockBegin(b + 1);
+      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+      {
+        sum += mu[v];
+      }
+      blockSum[b] = sum;
+    },
+    nullptr);
+  for (double sum : blockSum)
+  {
+    total += sum;
+  }
+  return total;
 }
 
 double
-DRRAttenuationVolume::ComputeMaximumMu() const
+DRRAttenuationVolume::ComputeTotalMass() const
 {
-  return m_Mu.empty() ? 0.0 : static_cast<double>(*std::max_element(m_Mu.begin(), m_Mu.end()));
+  return this->ComputeMuSum() * this->GetVoxelVolume();
 }
 
 void
@@ -77,6 +222,13 @@ DRRAttenuationVolume::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "Size: " << m_Size[0] << " x " << m_Size[1] << " x " << m_Size[2] << std::endl;
   os << indent << "IndexToPhysical (mm per index): " << m_IndexToPhysical << std::endl;
   os << indent << "Origin (mm): " << m_Origin << std::endl;
-  os << indent << "LevelKeys: " << (m_LevelKeys.empty() ? "none" : "per voxel") << std::endl;
+  if (this->HasLevels())
+  {
+    os << indent << "Levels: " << m_LevelMu.size() << " (" << m_LevelStart.back() << " non-air voxels)" << std::endl;
+  }
+  else
+  {
+    os << indent << "Levels: none (mu per voxel)" << std::endl;
+  }
 }
 } // namespace itk

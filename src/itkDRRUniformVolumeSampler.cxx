@@ -22,13 +22,11 @@ namespace itk
 void
 DRRUniformVolumeSampler::Initialize(const DRRAttenuationVolume & volume)
 {
+  // mu is read at every sample (a volume of levels materializes it here); the sum and the maximum come from the
+  // levels when there are levels, else from fixed blocks of voxels summed in order.
   m_Mu = volume.GetMuBuffer();
   m_NumberOfVoxels = volume.GetNumberOfVoxels();
-  double muSum = 0.0;
-  for (uint64_t v = 0; v < m_NumberOfVoxels; ++v)
-  {
-    muSum += m_Mu[v];
-  }
+  const double muSum = volume.ComputeMuSum();
   m_TotalMass = muSum * volume.GetVoxelVolume();
   m_WeightPerMu = muSum > 0.0 ? static_cast<double>(m_NumberOfVoxels) / muSum : 0.0;
   m_MaximumWeight = std::max(1.0, volume.ComputeMaximumMu() * m_WeightPerMu);

@@ -27,6 +27,7 @@
 
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkExactDRRImageFilter.h"
+#include "itkDRRSamplerFactory.h"
 #include "itkAffineTransform.h"
 #include "itkBSplineTransform.h"
 #include "itkEuler3DTransform.h"
@@ -1376,5 +1377,258 @@ TEST(PointBasedDRRRobustness, SameSeedAndTransformGiveIdenticalBits)
   EXPECT_EQ(std::memcmp(first.data(), second.data(), first.size() * sizeof(float)), 0);
   EXPECT_EQ(std::memcmp(first.data(), oneThread.data(), first.size() * sizeof(float)), 0);
   EXPECT_NE(first, render(2, 12)) << "another seed must give another image";
+}
+// Preprocessing. The attenuation volume (levels of integer input, or mu per voxel) and the samplers' tables are built
+// in parallel over fixed blocks of voxels: they must be the same bits on any number of threads, agree with the
+// transfer function voxel by voxel, and reject bad input by naming the first bad voxel in memory order.
+
+/** 128 x 96 x 48 voxels: 9 blocks of the preprocessing partition (2^16 voxels or more each). */
+constexpr unsigned int blockyX = 128;
+constexpr unsigned int blockyY = 96;
+constexpr unsigned int blockyZ = 48;
+constexpr uint64_t     blockyVoxels = uint64_t{ blockyX } * blockyY * blockyZ;
+
+uint32_t
+Hash(uint64_t v)
+{
+  uint64_t x = (v + 1) * 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return static_cast<uint32_t>(x ^ (x >> 31));
+}
+
+template <typename TVolume>
+typename TVolume::Pointer
+MakeBlockyVolume(const std::function<typename TVolume::PixelType(uint64_t)> & value)
+{
+  auto volume = MakeCentredVolume<TVolume>({ { blockyX, blockyY, blockyZ } }, Vec3(1.0, 1.0, 1.0), Identity<TVolume>());
+  auto * buffer = volume->GetBufferPointer();
+  for (uint64_t v = 0; v < blockyVoxels; ++v)
+  {
+    buffer[v] = value(v);
+  }
+  return volume;
+}
+
+/** The attenuation volume of an input, built on a number of threads. */
+template <typename TVolume>
+itk::DRRAttenuationVolume::ConstPointer
+BuildOnThreads(const TVolume * input, unsigned int threads, TransferEnum mode)
+{
+  auto drr = PointBasedFilter<TVolume>::New();
+  drr->SetInput(input);
+  drr->GetTransferFunction()->SetMode(mode);
+  drr->GetMultiThreader()->SetMaximumNumberOfThreads(threads);
+  drr->SetNumberOfWorkUnits(threads);
+  return drr->GetAttenuationVolume();
+}
+
+void
+ExpectSameVolume(const itk::DRRAttenuationVolume & a, const itk::DRRAttenuationVolume & b, const std::string & context)
+{
+  ASSERT_EQ(a.HasLevels(), b.HasLevels()) << context;
+  ASSERT_EQ(a.GetNumberOfLevels(), b.GetNumberOfLevels()) << context;
+  if (a.HasLevels())
+  {
+    for (size_t l = 0; l < a.GetNumberOfLevels(); ++l)
+    {
+      ASSERT_EQ(a.GetLevelStart(l), b.GetLevelStart(l)) << context << ", level " << l;
+      ASSERT_EQ(a.GetLevelMu(l), b.GetLevelMu(l)) << context << ", level " << l;
+    }
+    const uint64_t listed = a.GetLevelStart(a.GetNumberOfLevels());
+    ASSERT_EQ(listed, b.GetLevelStart(b.GetNumberOfLevels())) << context;
+    EXPECT_EQ(std::memcmp(a.GetLevelVoxels(), b.GetLevelVoxels(), listed * sizeof(uint32_t)), 0) << context;
+  }
+  EXPECT_EQ(std::memcmp(a.GetMuBuffer(), b.GetMuBuffer(), a.GetNumberOfVoxels() * sizeof(float)), 0) << context;
+  const double massA = a.ComputeTotalMass();
+  const double massB = b.ComputeTotalMass();
+  EXPECT_EQ(std::memcmp(&massA, &massB, sizeof(double)), 0) << context << ": " << massA << " vs " << massB;
+  EXPECT_EQ(a.ComputeMaximumMu(), b.ComputeMaximumMu()) << context;
+  EXPECT_EQ(a.GetSmallestPositiveMu(), b.GetSmallestPositiveMu()) << context;
+}
+
+/** mu is the transfer function of every voxel, to the bit; the levels list exactly the voxels of mu > 0, each level
+ * in increasing voxel order and of one mu. */
+template <typename TVolume>
+void
+ExpectVolumeMatchesTransfer(const TVolume *                   input,
+                            const itk::DRRAttenuationVolume & volume,
+                            TransferEnum                      mode,
+                            const std::string &               context)
+{
+  auto transfer = itk::DRRTransferFunction::New();
+  transfer->SetMode(mode);
+  const auto *  values = input->GetBufferPointer();
+  const float * mu = volume.GetMuBuffer();
+  uint64_t      mismatches = 0;
+  uint64_t      nonAir = 0;
+  float         largest = 0.0f;
+  float         smallest = std::numeric_limits<float>::max();
+  for (uint64_t v = 0; v < volume.GetNumberOfVoxels(); ++v)
+  {
+    const float expected = static_cast<float>(transfer->Evaluate(static_cast<double>(values[v])));
+    if (mismatches == 0 && mu[v] != expected)
+    {
+      ADD_FAILURE() << context << ": voxel " << v << " value " << values[v] << " has mu " << mu[v] << ", expected "
+                    << expected;
+    }
+    mismatches += mu[v] != expected ? 1 : 0;
+    nonAir += mu[v] > 0.0f ? 1 : 0;
+    largest = std::max(largest, mu[v]);
+    smallest = mu[v] > 0.0f ? std::min(smallest, mu[v]) : smallest;
+  }
+  EXPECT_EQ(mismatches, 0u) << context;
+  EXPECT_EQ(volume.ComputeMaximumMu(), largest) << context;
+  EXPECT_EQ(volume.GetSmallestPositiveMu(), nonAir > 0 ? smallest : 0.0f) << context;
+  if (!volume.HasLevels())
+  {
+    return;
+  }
+  ASSERT_EQ(volume.GetLevelStart(volume.GetNumberOfLevels()), nonAir) << context;
+  const uint32_t * voxels = volume.GetLevelVoxels();
+  uint64_t         wrong = 0;
+  for (size_t l = 0; l < volume.GetNumberOfLevels(); ++l)
+  {
+    EXPECT_GT(volume.GetLevelMu(l), 0.0f) << context;
+    for (uint64_t i = volume.GetLevelStart(l); i < volume.GetLevelStart(l + 1); ++i)
+    {
+      wrong += mu[voxels[i]] != volume.GetLevelMu(l) ? 1 : 0;
+      wrong += i > volume.GetLevelStart(l) && voxels[i] <= voxels[i - 1] ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(wrong, 0u) << context << ": voxels listed in the wrong level or out of order";
+}
+
+/** A batch of a sampler's draws (voxels and weights), with its mass and table size, as bits. */
+std::vector<double>
+SamplerFingerprint(const std::string & name, const itk::DRRAttenuationVolume & volume)
+{
+  auto sampler = itk::DRRSamplerFactory::Create(name);
+  sampler->Initialize(volume);
+  constexpr uint64_t                count = 4096;
+  std::vector<uint64_t>             voxels(count);
+  std::vector<double>               weights(count);
+  itk::DRRPointSampler::SampleRange range;
+  range.Seed = 5;
+  range.Count = count;
+  range.StratumSize = count;
+  itk::DRRPhiloxRandom random(5, 0, 0);
+  sampler->GenerateBatch(random, range, voxels.data(), weights.data());
+  std::vector<double> fingerprint(weights);
+  fingerprint.insert(fingerprint.end(), voxels.begin(), voxels.end());
+  fingerprint.push_back(sampler->GetTotalMass());
+  fingerprint.push_back(sampler->GetMaximumWeight());
+  fingerprint.push_back(static_cast<double>(sampler->GetTableSizeInBytes()));
+  return fingerprint;
+}
+
+template <typename TVolume>
+void
+ExpectReproduciblePreprocessing(const TVolume * input, TransferEnum mode, bool levels, const std::string & context)
+{
+  const auto reference = BuildOnThreads(input, 1, mode);
+  EXPECT_EQ(reference->HasLevels(), levels) << context;
+  ExpectVolumeMatchesTransfer(input, *reference, mode, context);
+  for (unsigned int threads : { 2u, 3u, 5u })
+  {
+    ExpectSameVolume(
+      *reference, *BuildOnThreads(input, threads, mode), context + ", " + std::to_string(threads) + " threads");
+  }
+  // The samplers build their tables on ITK's default threads: vary them.
+  const auto defaultThreads = itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads();
+  for (const std::string name : { "level-alias", "paper-hybrid", "metropolis", "mcvr" })
+  {
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(1);
+    const auto one = SamplerFingerprint(name, *BuildOnThreads(input, 1, mode));
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(3);
+    const auto three = SamplerFingerprint(name, *BuildOnThreads(input, 3, mode));
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(defaultThreads);
+    ASSERT_EQ(one.size(), three.size());
+    EXPECT_EQ(std::memcmp(one.data(), three.data(), one.size() * sizeof(double)), 0) << context << ", " << name;
+  }
+}
+
+TEST(PointBasedDRRPreprocessing, SameBitsOnAnyThreadsAndMuOfEveryVoxelFromTheTransferFunction)
+{
+  // CT in HU, air and padding included, as short and as integer-valued float: the same levels.
+  const auto hu = [](uint64_t v) { return static_cast<short>(static_cast<int>(Hash(v) % 3300) - 1100); };
+  const auto shortCT = MakeBlockyVolume<HUVolumeType>(hu);
+  const auto floatCT = MakeBlockyVolume<MuVolumeType>([&](uint64_t v) { return static_cast<float>(hu(v)); });
+  ExpectReproduciblePreprocessing(shortCT.GetPointer(), TransferEnum::Natural, true, "short HU");
+  ExpectReproduciblePreprocessing(floatCT.GetPointer(), TransferEnum::Natural, true, "integer float HU");
+  ExpectSameVolume(*BuildOnThreads(shortCT.GetPointer(), 2, TransferEnum::Natural),
+                   *BuildOnThreads(floatCT.GetPointer(), 2, TransferEnum::Natural),
+                   "short and float HU");
+
+  // Beyond int16 but spanning less than 2^16: levels from the smallest value.
+  using IntVolumeType = itk::Image<int, 3>;
+  const auto wide =
+    MakeBlockyVolume<IntVolumeType>([](uint64_t v) { return 40000 + static_cast<int>(Hash(v) % 20000); });
+  ExpectReproduciblePreprocessing(wide.GetPointer(), TransferEnum::Natural, true, "int beyond int16");
+
+  // Spanning more than 2^16, or not integers (a fraction of 1/1024 on one voxel is enough): mu per voxel, binned by
+  // the level samplers.
+  const auto wider =
+    MakeBlockyVolume<IntVolumeType>([](uint64_t v) { return static_cast<int>(Hash(v) % 100000) - 1000; });
+  ExpectReproduciblePreprocessing(wider.GetPointer(), TransferEnum::Natural, false, "int spanning 100000");
+  const auto almost = MakeBlockyVolume<MuVolumeType>(
+    [&](uint64_t v) { return static_cast<float>(hu(v)) + (v == blockyVoxels - 7 ? 1.0f / 1024.0f : 0.0f); });
+  ExpectReproduciblePreprocessing(almost.GetPointer(), TransferEnum::Natural, false, "float HU with one fraction");
+  const auto mu = MakeBlockyVolume<MuVolumeType>(
+    [](uint64_t v) { return Hash(v) % 5 == 0 ? 0.0f : static_cast<float>(Hash(v) % 100000) * 1e-6f; });
+  ExpectReproduciblePreprocessing(mu.GetPointer(), TransferEnum::Identity, false, "mu");
+}
+
+TEST(PointBasedDRRPreprocessing, LevelTablesTakeFourBytesPerNonAirVoxel)
+{
+  const auto ct = MakeBlockyVolume<HUVolumeType>(
+    [](uint64_t v) { return static_cast<short>(static_cast<int>(Hash(v) % 3300) - 1100); });
+  const auto volume = BuildOnThreads(ct.GetPointer(), 2, TransferEnum::Natural);
+  const auto nonAir = static_cast<double>(volume->GetLevelStart(volume->GetNumberOfLevels()));
+  for (const std::string name : { "level-alias", "paper-hybrid", "metropolis" })
+  {
+    auto sampler = itk::DRRSamplerFactory::Create(name);
+    sampler->Initialize(*volume);
+    const double perVoxel = static_cast<double>(sampler->GetTableSizeInBytes()) / nonAir;
+    EXPECT_GE(perVoxel, 4.0) << name;
+    // 4 bytes of voxel index, plus per level tables spread over the voxels.
+    EXPECT_LE(perVoxel, 4.0 + 64.0 * static_cast<double>(volume->GetNumberOfLevels()) / nonAir) << name;
+  }
+}
+
+TEST(PointBasedDRRPreprocessing, BadVoxelsInSeveralBlocksNameTheFirstInMemoryOrder)
+{
+  // Two bad voxels, blocks apart: whatever the threads, the one first in memory order is named.
+  const itk::Index<3> first = { { 5, 40, 30 } };
+  const itk::Index<3> second = { { 100, 10, 41 } };
+  for (unsigned int threads : { 1u, 2u, 4u })
+  {
+    // Integer input with the identity transfer function: negative values are negative mu.
+    auto ct = MakeBlockyVolume<HUVolumeType>([](uint64_t v) { return static_cast<short>(Hash(v) % 7); });
+    ct->SetPixel(second, -3);
+    ct->SetPixel(first, -7);
+    auto drr = PointBasedFilter<HUVolumeType>::New();
+    drr->SetInput(ct);
+    drr->GetTransferFunction()->SetMode(TransferEnum::Identity);
+    drr->GetMultiThreader()->SetMaximumNumberOfThreads(threads);
+    drr->SetNumberOfWorkUnits(threads);
+    ExpectUpdateThrows(drr.GetPointer(), { "negative", "-7", "voxel (5, 40, 30)" }, "negative integer input");
+
+    // Float input: a non-finite voxel, then a negative one.
+    auto mu =
+      MakeBlockyVolume<MuVolumeType>([](uint64_t v) { return 0.01f + 1e-6f * static_cast<float>(Hash(v) % 7); });
+    mu->SetPixel(second, -0.5f);
+    mu->SetPixel(first, -std::numeric_limits<float>::infinity());
+    auto drrMu = PointBasedFilter<MuVolumeType>::New();
+    drrMu->SetInput(mu);
+    drrMu->GetTransferFunction()->SetMode(TransferEnum::Identity);
+    drrMu->GetMultiThreader()->SetMaximumNumberOfThreads(threads);
+    drrMu->SetNumberOfWorkUnits(threads);
+    ExpectUpdateThrows(drrMu.GetPointer(), { "non-finite", "voxel (5, 40, 30)" }, "infinite float input");
+    mu->SetPixel(first, 0.01f);
+    mu->SetPixel(second, std::numeric_limits<float>::quiet_NaN());
+    mu->SetPixel({ { 0, 0, 47 } }, -0.25f);
+    ExpectUpdateThrows(drrMu.GetPointer(), { "non-finite", "voxel (100, 10, 41)" }, "NaN before a negative voxel");
+  }
 }
 } // namespace

@@ -1,0 +1,407 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRAttenuationVolume_hxx
+#define itkDRRAttenuationVolume_hxx
+
+#include "itkDRRAttenuationVolume.h"
+#include "itkDRRTransferFunction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace itk
+{
+namespace DRRAttenuationVolumeDetail
+{
+/** Largest key of an integer level: 16-bit keys keep the per-block counts small. */
+constexpr uint32_t MaximumKey = 65535;
+
+/** Maps input values to integer keys value - offset (offset an integer), for the values that are integers in
+ * [offset, offset + MaximumKey]. Integrality is tested on the value itself, before the shift could round a fraction
+ * away; float input near zero, the common case, is tested in float arithmetic. */
+template <typename TValue>
+class IntegerKeyMap
+{
+public:
+  explicit IntegerKeyMap(double offset)
+    : m_Offset(offset)
+    , m_OffsetInteger(static_cast<int64_t>(offset))
+    , m_FloatPath(std::abs(offset) <= 16777216.0 - 2.0 * (MaximumKey + 1))
+    , m_FloatLowest(static_cast<float>(offset))
+    , m_FloatHighest(static_cast<float>(offset + MaximumKey))
+  {}
+
+  /** True, with the key, if the value is an integer in range. */
+  bool
+  operator()(TValue value, uint32_t & key) const
+  {
+    if constexpr (std::is_integral<TValue>::value && sizeof(TValue) <= 4)
+    {
+      const int64_t shifted = static_cast<int64_t>(value) - m_OffsetInteger;
+      key = static_cast<uint32_t>(shifted);
+      return shifted >= 0 && shifted <= MaximumKey;
+    }
+    else
+    {
+      if constexpr (std::is_same<TValue, float>::value)
+      {
+        if (m_FloatPath)
+        {
+          // Both bounds are exact floats inside the int32 range.
+          if (!(value >= m_FloatLowest && value <= m_FloatHighest))
+          {
+            return false;
+          }
+          const int32_t integer = static_cast<int32_t>(value);
+          key = static_cast<uint32_t>(integer - static_cast<int32_t>(m_OffsetInteger));
+          return static_cast<float>(integer) == value;
+        }
+      }
+      const double x = static_cast<double>(value);
+      const double shifted = x - m_Offset;
+      if (!(shifted >= 0.0 && shifted <= MaximumKey)) // NaN and infinities fail here
+      {
+        return false;
+      }
+      // Every double of magnitude >= 2^52 is an integer; below, the conversion to int64 is exact for integers only.
+      key = static_cast<uint32_t>(shifted);
+      return std::abs(x) >= 4503599627370496.0 || static_cast<double>(static_cast<int64_t>(x)) == x;
+    }
+  }
+
+private:
+  double  m_Offset;
+  int64_t m_OffsetInteger;
+  bool    m_FloatPath;
+  float   m_FloatLowest;
+  float   m_FloatHighest;
+};
+
+/** True if a value is finite and an integer. */
+template <typename TValue>
+inline bool
+IsInteger(TValue value)
+{
+  if constexpr (std::is_integral<TValue>::value)
+  {
+    return true;
+  }
+  else
+  {
+    const double x = static_cast<double>(value);
+    return std::isfinite(x) && (std::abs(x) >= 4503599627370496.0 || static_cast<double>(static_cast<int64_t>(x)) == x);
+  }
+}
+} // namespace DRRAttenuationVolumeDetail
+
+template <typename TValue>
+void
+DRRAttenuationVolume::Build(const TValue *              values,
+                            const SizeType &            size,
+                            const DRRTransferFunction & transfer,
+                            MultiThreaderBase *         threader)
+{
+  this->Reset(size);
+  const uint64_t numberOfVoxels = this->GetNumberOfVoxels();
+  if (numberOfVoxels == 0)
+  {
+    return;
+  }
+  // Levels index their voxels, and a scratch slot per block, with 32 bits.
+  if (numberOfVoxels <= std::numeric_limits<uint32_t>::max() - ComputeNumberOfBlocks(numberOfVoxels))
+  {
+    // First guess: integers in [-32768, 32767], i.e. any int16 CT, counted in the same pass that checks them.
+    KeyCounts counts;
+    double    offset = -32768.0;
+    bool      integral = this->CountIntegerKeys(values, offset, counts, threader);
+    if (!integral)
+    {
+      // Else: integers spanning less than 2^16, counted from their smallest value.
+      const uint64_t       numberOfBlocks = this->GetNumberOfBlocks();
+      std::vector<double>  lowest(numberOfBlocks, std::numeric_limits<double>::infinity());
+      std::vector<double>  highest(numberOfBlocks, -std::numeric_limits<double>::infinity());
+      std::vector<uint8_t> blockIntegral(numberOfBlocks, 1);
+      ParallelizeBlocks(
+        numberOfBlocks,
+        [&](uint64_t b) {
+          const uint64_t end = this->GetBlockBegin(b + 1);
+          for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+          {
+            if (!DRRAttenuationVolumeDetail::IsInteger(values[v]))
+            {
+              blockIntegral[b] = 0;
+              return;
+            }
+            lowest[b] = std::min(lowest[b], static_cast<double>(values[v]));
+            highest[b] = std::max(highest[b], static_cast<double>(values[v]));
+          }
+        },
+        threader);
+      integral = std::all_of(blockIntegral.begin(), blockIntegral.end(), [](uint8_t i) { return i != 0; });
+      if (integral)
+      {
+        offset = *std::min_element(lowest.begin(), lowest.end());
+        integral =
+          *std::max_element(highest.begin(), highest.end()) - offset <= DRRAttenuationVolumeDetail::MaximumKey &&
+          this->CountIntegerKeys(values, offset, counts, threader);
+      }
+    }
+    if (integral)
+    {
+      this->BuildLevels(values, offset, counts, transfer, threader);
+      this->Modified();
+      return;
+    }
+  }
+  this->BuildMu(values, transfer, threader);
+  this->Modified();
+}
+
+template <typename TValue>
+bool
+DRRAttenuationVolume::CountIntegerKeys(const TValue *      values,
+                                       double              offset,
+                                       KeyCounts &         counts,
+                                       MultiThreaderBase * threader) const
+{
+  const uint64_t numberOfBlocks = this->GetNumberOfBlocks();
+  counts.Lowest.assign(numberOfBlocks, 0);
+  counts.Counts.assign(numberOfBlocks, {});
+  std::atomic<bool>                                       failed{ false };
+  const DRRAttenuationVolumeDetail::IntegerKeyMap<TValue> keyOf(offset);
+  ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      if (failed.load(std::memory_order_relaxed))
+      {
+        return;
+      }
+      std::vector<uint32_t> histogram(DRRAttenuationVolumeDetail::MaximumKey + 1, 0);
+      const uint64_t        end = this->GetBlockBegin(b + 1);
+      bool                  valid = true;
+      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+      {
+        uint32_t key = 0;
+        // Not a branch: a failed block is rare, and its counts are dropped.
+        valid &= keyOf(values[v], key);
+        ++histogram[key & DRRAttenuationVolumeDetail::MaximumKey];
+      }
+      if (!valid)
+      {
+        failed = true;
+        return;
+      }
+      // Keep the block's own key range only: the volume's range is usually a few thousand keys.
+      const auto first = std::find_if(histogram.begin(), histogram.end(), [](uint32_t c) { return c != 0; });
+      const auto last = std::find_if(histogram.rbegin(), histogram.rend(), [](uint32_t c) { return c != 0; }).base();
+      counts.Lowest[b] = static_cast<uint32_t>(first - histogram.begin());
+      counts.Counts[b].assign(first, last);
+    },
+    threader);
+  return !failed;
+}
+
+template <typename TValue>
+void
+DRRAttenuationVolume::BuildLevels(const TValue *              values,
+                                  double                      offset,
+                                  const KeyCounts &           counts,
+                                  const DRRTransferFunction & transfer,
+                                  MultiThreaderBase *         threader)
+{
+  const uint64_t numberOfBlocks = counts.Lowest.size();
+  uint32_t       lowest = DRRAttenuationVolumeDetail::MaximumKey;
+  uint32_t       highest = 0;
+  for (uint64_t b = 0; b < numberOfBlocks; ++b)
+  {
+    lowest = std::min(lowest, counts.Lowest[b]);
+    highest = std::max(highest, counts.Lowest[b] + static_cast<uint32_t>(counts.Counts[b].size()) - 1);
+  }
+  const uint32_t        span = highest - lowest + 1;
+  std::vector<uint64_t> total(span, 0);
+  for (uint64_t b = 0; b < numberOfBlocks; ++b)
+  {
+    const std::vector<uint32_t> & blockCounts = counts.Counts[b];
+    for (size_t k = 0; k < blockCounts.size(); ++k)
+    {
+      total[counts.Lowest[b] - lowest + k] += blockCounts[k];
+    }
+  }
+
+  // One transfer-function evaluation per value present; a level per value with mu > 0, in increasing value.
+  const DRRAttenuationVolumeDetail::IntegerKeyMap<TValue> keyOf(offset);
+  std::vector<uint32_t>                                   levelOfKey(span, std::numeric_limits<uint32_t>::max());
+  std::vector<uint8_t>                                    invalid(span, 0);
+  bool                                                    anyInvalid = false;
+  m_LevelStart.assign(1, 0);
+  for (uint32_t k = 0; k < span; ++k)
+  {
+    if (total[k] == 0)
+    {
+      continue;
+    }
+    const double attenuation = transfer.Evaluate(offset + static_cast<double>(lowest + k));
+    if (!(attenuation >= 0.0) || !(attenuation <= std::numeric_limits<float>::max()))
+    {
+      invalid[k] = 1;
+      anyInvalid = true;
+      continue;
+    }
+    const float mu = static_cast<float>(attenuation);
+    if (mu > 0.0f)
+    {
+      levelOfKey[k] = static_cast<uint32_t>(m_LevelMu.size());
+      m_LevelMu.push_back(mu);
+      m_LevelStart.push_back(m_LevelStart.back() + total[k]);
+    }
+  }
+  if (anyInvalid)
+  {
+    // Error path: the first voxel, in memory order, whose value has no valid attenuation.
+    for (uint64_t v = 0;; ++v)
+    {
+      uint32_t key = 0;
+      keyOf(values[v], key);
+      if (invalid[key - lowest])
+      {
+        Failure failure;
+        failure.Voxel = v;
+        failure.Value = static_cast<double>(values[v]);
+        failure.Attenuation = transfer.Evaluate(failure.Value);
+        this->ThrowFailure(failure);
+      }
+    }
+  }
+
+  if (!m_LevelMu.empty())
+  {
+    m_SmallestPositiveMu = m_LevelMu.front();
+    m_LargestMu = *std::max_element(m_LevelMu.begin(), m_LevelMu.end());
+  }
+
+  // Counting sort by level over the same blocks: each block's voxels of a level follow those of the blocks before
+  // it, so every level lists its voxels in increasing order, whatever the threads. Per block and key, where its next
+  // voxel goes and whether it moves on (air stays on a slot of its own past the lists, so that the loop below has no
+  // branch to mispredict where air and tissue mix).
+  const uint64_t                     numberOfListed = m_LevelStart.back();
+  std::vector<std::vector<uint32_t>> position(numberOfBlocks);
+  std::vector<uint32_t>              step(span);
+  std::vector<uint64_t>              next(m_LevelStart.begin(), m_LevelStart.end() - 1);
+  for (uint32_t k = 0; k < span; ++k)
+  {
+    step[k] = levelOfKey[k] != std::numeric_limits<uint32_t>::max() ? 1 : 0;
+  }
+  for (uint64_t b = 0; b < numberOfBlocks; ++b)
+  {
+    const std::vector<uint32_t> & blockCounts = counts.Counts[b];
+    position[b].resize(blockCounts.size());
+    for (size_t k = 0; k < blockCounts.size(); ++k)
+    {
+      const uint32_t level = levelOfKey[counts.Lowest[b] - lowest + k];
+      if (level != std::numeric_limits<uint32_t>::max())
+      {
+        position[b][k] = static_cast<uint32_t>(next[level]);
+        next[level] += blockCounts[k];
+      }
+      else
+      {
+        position[b][k] = static_cast<uint32_t>(numberOfListed + b);
+      }
+    }
+  }
+  // Written only here, first touched by the threads that fill it: no zero-fill. One scratch slot per block for air.
+  m_LevelVoxels.reset(new uint32_t[numberOfListed + numberOfBlocks]);
+  uint32_t * voxels = m_LevelVoxels.get();
+  ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      uint32_t *       blockPosition = position[b].data();
+      const uint32_t * blockStep = step.data() + (counts.Lowest[b] - lowest);
+      const uint32_t   blockLowest = counts.Lowest[b];
+      const uint64_t   end = this->GetBlockBegin(b + 1);
+      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+      {
+        uint32_t key = 0;
+        keyOf(values[v], key);
+        key -= blockLowest;
+        const uint32_t slot = blockPosition[key];
+        voxels[slot] = static_cast<uint32_t>(v);
+        blockPosition[key] = slot + blockStep[key];
+      }
+    },
+    threader);
+}
+
+template <typename TValue>
+void
+DRRAttenuationVolume::BuildMu(const TValue * values, const DRRTransferFunction & transfer, MultiThreaderBase * threader)
+{
+  const uint64_t       numberOfVoxels = this->GetNumberOfVoxels();
+  const uint64_t       numberOfBlocks = this->GetNumberOfBlocks();
+  std::vector<Failure> failures(numberOfBlocks);
+  std::vector<float>   smallest(numberOfBlocks, std::numeric_limits<float>::max());
+  std::vector<float>   largest(numberOfBlocks, 0.0f);
+  // Written only here, first touched by the threads that fill it: no zero-fill.
+  m_Mu.reset(new float[numberOfVoxels]);
+  float * mu = m_Mu.get();
+  ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      Failure &      failure = failures[b];
+      const uint64_t end = this->GetBlockBegin(b + 1);
+      float          blockSmallest = std::numeric_limits<float>::max();
+      float          blockLargest = 0.0f;
+      failure.Voxel = numberOfVoxels;
+      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+      {
+        const double value = static_cast<double>(values[v]);
+        const double attenuation = std::isfinite(value) ? transfer.Evaluate(value) : 0.0;
+        if (!std::isfinite(value) || !(attenuation >= 0.0) || !(attenuation <= std::numeric_limits<float>::max()))
+        {
+          failure.Voxel = v;
+          failure.Value = value;
+          failure.Attenuation = attenuation;
+          failure.NonFinite = !std::isfinite(value);
+          return;
+        }
+        const float m = static_cast<float>(attenuation);
+        mu[v] = m;
+        blockSmallest = std::min(blockSmallest, m > 0.0f ? m : std::numeric_limits<float>::max());
+        blockLargest = std::max(blockLargest, m);
+      }
+      smallest[b] = blockSmallest;
+      largest[b] = blockLargest;
+    },
+    threader);
+  for (const Failure & failure : failures)
+  {
+    if (failure.Voxel < numberOfVoxels)
+    {
+      m_Mu.reset();
+      this->ThrowFailure(failure);
+    }
+  }
+  m_LargestMu = *std::max_element(largest.begin(), largest.end());
+  m_SmallestPositiveMu = m_LargestMu > 0.0f ? *std::min_element(smallest.begin(), smallest.end()) : 0.0f;
+  m_MuReady.store(true, std::memory_order_release);
+}
+} // namespace itk
+
+#endif
