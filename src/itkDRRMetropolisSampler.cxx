@@ -18,6 +18,7 @@
 #include "itkDRRMetropolisSampler.h"
 
 #include <cmath>
+#include <vector>
 
 namespace itk
 {
@@ -33,42 +34,69 @@ DRRMetropolisSampler::Initialize(const DRRAttenuationVolume & volume)
 void
 DRRMetropolisSampler::MeasureChain()
 {
-  // Batch means: with B batches of b steps of f = mean mu of the level, tau = b Var(batch means) / Var(f).
+  // Batch means: with B batches of b steps of f = mean mu of the level, tau = b Var(batch means) / Var(f). The
+  // 2^20 steps run as 16 independent chains, each started in the stationary law (so no burn-in), in parallel; their
+  // sums are merged in chain order, the same bits on any number of threads.
   m_AutocorrelationTime = 1.0;
   m_AcceptanceRate = 1.0;
   if (m_Levels.GetNumberOfLevels() < 2)
   {
     return;
   }
-  const uint64_t  batches = 256;
-  const uint64_t  batchLength = 4096;
-  DRRPhiloxRandom random(0, ~uint64_t{ 0 }, 3);
-  auto            start = random.Next();
-  uint32_t        level = m_AliasTable.Draw(start[0], start[1]);
-  double          sum = 0.0, sumOfSquares = 0.0, batchMeanSum = 0.0, batchMeanSquares = 0.0;
-  uint64_t        accepted = 0;
-  for (uint64_t b = 0; b < batches; ++b)
+  constexpr uint64_t numberOfChains = 16;
+  constexpr uint64_t batchesPerChain = 16;
+  constexpr uint64_t batchLength = 4096;
+  struct ChainSums
   {
-    double batchSum = 0.0;
-    for (uint64_t i = 0; i < batchLength; ++i)
-    {
-      const uint32_t next = this->Step(level, random.Next());
-      accepted += next != level ? 1 : 0;
-      level = next;
-      const double f = m_Levels.GetMeanMu(level);
-      batchSum += f;
-      sum += f;
-      sumOfSquares += f * f;
-    }
-    const double batchMean = batchSum / batchLength;
-    batchMeanSum += batchMean;
-    batchMeanSquares += batchMean * batchMean;
+    double   Sum{ 0.0 };
+    double   SumOfSquares{ 0.0 };
+    double   BatchMeanSum{ 0.0 };
+    double   BatchMeanSquares{ 0.0 };
+    uint64_t Accepted{ 0 };
+  };
+  std::vector<ChainSums> chains(numberOfChains);
+  DRRAttenuationVolume::ParallelizeBlocks(
+    numberOfChains,
+    [&](uint64_t c) {
+      ChainSums &     chain = chains[c];
+      DRRPhiloxRandom random(0, ~uint64_t{ 0 } - c, 3);
+      const auto      start = random.Next();
+      uint32_t        level = m_AliasTable.Draw(start[0], start[1]);
+      for (uint64_t b = 0; b < batchesPerChain; ++b)
+      {
+        double batchSum = 0.0;
+        for (uint64_t i = 0; i < batchLength; ++i)
+        {
+          const uint32_t next = this->Step(level, random.Next());
+          chain.Accepted += next != level ? 1 : 0;
+          level = next;
+          const double f = m_Levels.GetMeanMu(level);
+          batchSum += f;
+          chain.Sum += f;
+          chain.SumOfSquares += f * f;
+        }
+        const double batchMean = batchSum / batchLength;
+        chain.BatchMeanSum += batchMean;
+        chain.BatchMeanSquares += batchMean * batchMean;
+      }
+    },
+    nullptr);
+  ChainSums total;
+  for (const ChainSums & chain : chains)
+  {
+    total.Sum += chain.Sum;
+    total.SumOfSquares += chain.SumOfSquares;
+    total.BatchMeanSum += chain.BatchMeanSum;
+    total.BatchMeanSquares += chain.BatchMeanSquares;
+    total.Accepted += chain.Accepted;
   }
-  const double n = static_cast<double>(batches * batchLength);
-  const double variance = (sumOfSquares - sum * sum / n) / (n - 1.0);
-  const double batchVariance = (batchMeanSquares - batchMeanSum * batchMeanSum / batches) / (batches - 1.0);
+  const double n = static_cast<double>(numberOfChains * batchesPerChain * batchLength);
+  const double batches = static_cast<double>(numberOfChains * batchesPerChain);
+  const double variance = (total.SumOfSquares - total.Sum * total.Sum / n) / (n - 1.0);
+  const double batchVariance =
+    (total.BatchMeanSquares - total.BatchMeanSum * total.BatchMeanSum / batches) / (batches - 1.0);
   m_AutocorrelationTime = variance > 0.0 ? batchLength * batchVariance / variance : 1.0;
-  m_AcceptanceRate = static_cast<double>(accepted) / n;
+  m_AcceptanceRate = static_cast<double>(total.Accepted) / n;
 }
 
 void
