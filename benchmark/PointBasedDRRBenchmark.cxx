@@ -403,13 +403,15 @@ Measure(const std::function<void()> & render, unsigned int runs, double repeatLi
 }
 
 /** One untimed render, so that one-time work a filter may do in its first Update (beyond the preprocessing that is
- * measured on its own) stays out of the timings. */
+ * measured on its own) stays out of the timings; returns its wall time, reported as first_render_s. */
 template <typename TFilter>
-void
+double
 WarmUp(TFilter * filter)
 {
+  const double start = Now();
   filter->Modified();
   filter->Update();
+  return Now() - start;
 }
 
 // ------------------------------------------------------------------------------------------------- errors
@@ -486,6 +488,7 @@ struct Row
   unsigned    Columns{ 0 }, DetectorRows{ 0 }, Rays{ 0 };
   Timing      Time;
   double      HuToMu{ NaN }, Tables{ NaN }, TableBytes{ NaN }, TableBytesPerVoxel{ NaN };
+  double      FirstRender{ NaN }; // the untimed first render of the filter at this row's setting
   Errors      Own, Box;
 };
 
@@ -513,7 +516,8 @@ CsvField(const std::string & text)
 const char * CsvHeader =
   "config,sweep,x,voxels,cols,rows,method,sampler,kernel,splat,samples,rays_per_pixel,model,status,runs,wall_s,"
   "wall_min_s,wall_max_s,cpu_s,peak_rss_mib,peak_extra_mib,hu_to_mu_s,tables_s,table_bytes,"
-  "table_bytes_per_nonair_voxel,load_s,render_s,nrmse,max_error,sum_ratio,nrmse_box,max_error_box,sum_ratio_box,"
+  "table_bytes_per_nonair_voxel,load_s,render_s,first_render_s,nrmse,max_error,sum_ratio,nrmse_box,max_error_box,sum_"
+  "ratio_box,"
   "wall_x_nrmse2,note";
 
 void
@@ -531,9 +535,9 @@ WriteCsv(const std::string & path, const std::vector<Row> & rows)
         << (r.Time.Runs ? std::to_string(r.Time.Runs) : "") << "," << g(r.Time.Wall) << "," << g(r.Time.WallMin) << ","
         << g(r.Time.WallMax) << "," << g(r.Time.Cpu) << "," << Format(r.Time.PeakMiB, "%.1f") << ","
         << Format(r.Time.ExtraMiB, "%.1f") << "," << g(r.HuToMu) << "," << g(r.Tables) << "," << g(r.TableBytes) << ","
-        << g(r.TableBytesPerVoxel) << "," << g(r.Time.Load) << "," << g(r.Time.Render) << "," << g(r.Own.Nrmse) << ","
-        << g(r.Own.MaxError) << "," << Format(r.Own.SumRatio, "%.7f") << "," << g(r.Box.Nrmse) << ","
-        << g(r.Box.MaxError) << "," << Format(r.Box.SumRatio, "%.7f") << ","
+        << g(r.TableBytesPerVoxel) << "," << g(r.Time.Load) << "," << g(r.Time.Render) << "," << g(r.FirstRender) << ","
+        << g(r.Own.Nrmse) << "," << g(r.Own.MaxError) << "," << Format(r.Own.SumRatio, "%.7f") << "," << g(r.Box.Nrmse)
+        << "," << g(r.Box.MaxError) << "," << Format(r.Box.SumRatio, "%.7f") << ","
         << g(r.Time.Wall * r.Own.Nrmse * r.Own.Nrmse) << "," << CsvField(r.Note) << "\n";
   }
 }
@@ -1077,7 +1081,7 @@ Benchmark::ExactRows(const VolumeType *                          volume,
   filter->GetAttenuationVolume();
   base.HuToMu = Now() - start;
   filter->SetRaysPerPixelSide(1);
-  WarmUp(filter.GetPointer());
+  const double  first = WarmUp(filter.GetPointer());
   const Image & own = kernel == KernelEnum::Box ? m_BoxReference : m_TentReference;
   for (unsigned rays : m_Options.ExactRays)
   {
@@ -1086,6 +1090,7 @@ Benchmark::ExactRows(const VolumeType *                          volume,
     row.Kernel = KernelName(kernel);
     row.Model = KernelName(kernel);
     row.Rays = rays;
+    row.FirstRender = rays == 1 ? first : NaN;
     filter->SetRaysPerPixelSide(rays);
     row.Time = Measure(
       [&] {
@@ -1318,9 +1323,9 @@ Benchmark::SamplerRows(const std::string & samplerName, const VolumeType * volum
       filter->SetReconstructionKernel(kernel);
       filter->SetSplat(splat);
       filter->SetNumberOfSamples(ladder.empty() ? 1 : ladder.front());
-      WarmUp(filter.GetPointer());
-      double   previousTime = NaN;
-      uint64_t previousSamples = 0;
+      const double first = WarmUp(filter.GetPointer());
+      double       previousTime = NaN;
+      uint64_t     previousSamples = 0;
       for (uint64_t samples : ladder)
       {
         Row row = base;
@@ -1329,6 +1334,7 @@ Benchmark::SamplerRows(const std::string & samplerName, const VolumeType * volum
         row.Splat = SplatName(splat);
         row.Model = KernelName(kernel);
         row.Samples = samples;
+        row.FirstRender = samples == ladder.front() ? first : NaN;
         const double predicted = previousTime * samples / std::max<uint64_t>(1, previousSamples);
         if (std::isfinite(predicted) && predicted > m_Options.Budget)
         {
@@ -1525,9 +1531,8 @@ Benchmark::Scaling()
       render.Kernel = KernelName(m_Options.Kernels.front());
       render.Splat = SplatName(m_Options.Splats.front());
       render.Samples = samples;
-      filter->SetNumberOfSamples(std::min<uint64_t>(samples, 100000));
-      WarmUp(filter.GetPointer());
       filter->SetNumberOfSamples(samples);
+      render.FirstRender = WarmUp(filter.GetPointer());
       render.Time = Measure(
         [&] {
           filter->Modified();
@@ -1548,7 +1553,7 @@ Benchmark::Scaling()
       r.Kernel = KernelName(kernel);
       r.Rays = 1;
       exact->SetReconstructionKernel(kernel);
-      WarmUp(exact.GetPointer());
+      r.FirstRender = WarmUp(exact.GetPointer());
       r.Time = Measure(
         [&] {
           exact->Modified();
@@ -1596,19 +1601,20 @@ Benchmark::Scaling()
     filter->SetReconstructionKernel(m_Options.Kernels.front());
     filter->SetSplat(m_Options.Splats.front());
     filter->PrepareSampling();
-    filter->SetGeometry(MakeGeometry(m_Volume, g.Columns, g.Rows, g.Spacing));
-    filter->SetNumberOfSamples(std::min<uint64_t>(samples, 100000));
-    WarmUp(filter.GetPointer());
     filter->SetNumberOfSamples(samples);
+    double first = NaN;
     for (unsigned cols : m_Options.DetectorColumns)
     {
+      filter->SetGeometry(MakeGeometry(m_Volume, cols, cols, fieldOfView / cols));
+      if (!std::isfinite(first))
+        first = WarmUp(filter.GetPointer());
       Row r = detectorRow(cols);
       r.Method = "points";
       r.Sampler = samplerName;
       r.Kernel = KernelName(m_Options.Kernels.front());
       r.Splat = SplatName(m_Options.Splats.front());
       r.Samples = samples;
-      filter->SetGeometry(MakeGeometry(m_Volume, cols, cols, fieldOfView / cols));
+      r.FirstRender = cols == m_Options.DetectorColumns.front() ? first : NaN;
       r.Time = Measure(
         [&] {
           filter->Modified();
@@ -1621,8 +1627,6 @@ Benchmark::Scaling()
   }
   auto exact = ExactType::New();
   exact->SetInput(m_Volume);
-  exact->SetGeometry(MakeGeometry(m_Volume, g.Columns, g.Rows, g.Spacing));
-  WarmUp(exact.GetPointer()); // HU -> mu and any first-render work, outside the timings
   for (unsigned cols : m_Options.DetectorColumns)
   {
     Row r = detectorRow(cols);
@@ -1630,6 +1634,8 @@ Benchmark::Scaling()
     r.Kernel = "box";
     r.Rays = 1;
     exact->SetGeometry(MakeGeometry(m_Volume, cols, cols, fieldOfView / cols));
+    if (cols == m_Options.DetectorColumns.front())
+      r.FirstRender = WarmUp(exact.GetPointer()); // HU -> mu and any first-render work, outside the timings
     r.Time = Measure(
       [&] {
         exact->Modified();
@@ -1721,9 +1727,9 @@ Benchmark::Collimated()
           const bool collimated = view == std::string("collimated");
           filter->SetGeometry(collimated ? smallGeometry : fullGeometry);
           filter->SetNumberOfSamples(ladder.empty() ? 1 : ladder.front());
-          WarmUp(filter.GetPointer());
-          double   previousTime = NaN;
-          uint64_t previousSamples = 0;
+          const double first = WarmUp(filter.GetPointer());
+          double       previousTime = NaN;
+          uint64_t     previousSamples = 0;
           for (uint64_t samples : ladder)
           {
             Row row = base;
@@ -1736,6 +1742,7 @@ Benchmark::Collimated()
             row.Splat = SplatName(splat);
             row.Model = KernelName(kernel);
             row.Samples = samples;
+            row.FirstRender = samples == ladder.front() ? first : NaN;
             const double predicted = previousTime * samples / std::max<uint64_t>(1, previousSamples);
             if (std::isfinite(predicted) && predicted > m_Options.Budget)
             {
@@ -1808,6 +1815,8 @@ Benchmark::WriteOutputs() const
       count = "";
     }
     std::string note = r.Note;
+    if (std::isfinite(r.FirstRender))
+      note = "first render " + Format(r.FirstRender, "%.3g") + " s" + (note.empty() ? "" : "; " + note);
     if (r.Method == "preprocess")
       note = "HU->mu " + Format(r.HuToMu, "%.3g") + " s + tables " + Format(r.Tables, "%.3g") + " s; tables " +
              Format(r.TableBytes / 1048576.0, "%.4g") + " MiB = " + Format(r.TableBytesPerVoxel, "%.3g") +
