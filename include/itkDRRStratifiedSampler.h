@@ -20,6 +20,7 @@
 
 #include "itkDRRPointSampler.h"
 
+#include <memory>
 #include <vector>
 
 namespace itk
@@ -167,8 +168,9 @@ private:
   void
   UseAllBricks();
 
-  std::vector<Brick>             m_Bricks;     // non-empty bricks, Morton order
-  std::vector<float>             m_Mu;         // mu of the non-air voxels, brick by brick, Morton order inside (1/mm)
+  std::vector<Brick>             m_Bricks; // non-empty bricks, Morton order
+  std::unique_ptr<float[]>       m_Mu;     // mu of the non-air voxels, brick by brick, Morton order inside (1/mm)
+  uint64_t                       m_NumberOfNonAirVoxels{ 0 };
   std::vector<uint32_t>          m_ViewBricks; // the bricks sampled (all, or those in the view)
   std::vector<double>            m_ViewPrefix; // mass before each view brick, and the total (1/mm)
   DRRAttenuationVolume::SizeType m_Size{ { 0, 0, 0 } };

@@ -114,12 +114,12 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
 
   // Pass 1, one row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy and group masses. Group
   // masses are exact sums (see Brick), so the order of this pass does not matter.
-  const uint64_t     numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
-  std::vector<Brick> grid(bricksPerAxis[0] * numberOfBrickRows);
+  const uint64_t           numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
+  std::unique_ptr<Brick[]> grid(new Brick[bricksPerAxis[0] * numberOfBrickRows]); // each set in pass 1
   ForEachBlock(numberOfBrickRows, [&](uint64_t brickRow) {
     const uint64_t by = brickRow % bricksPerAxis[1];
     const uint64_t bz = brickRow / bricksPerAxis[1];
-    Brick *        row = grid.data() + brickRow * bricksPerAxis[0];
+    Brick *        row = grid.get() + brickRow * bricksPerAxis[0];
     for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
     {
       row[bx] = Brick{};
@@ -148,7 +148,7 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
 
   // The non-empty bricks in Morton order, and where their voxels start.
   std::vector<std::pair<uint64_t, uint64_t>> coded; // (Morton code, grid index)
-  for (uint64_t g = 0; g < grid.size(); ++g)
+  for (uint64_t g = 0; g < bricksPerAxis[0] * numberOfBrickRows; ++g)
   {
     uint64_t occupied = 0;
     for (const uint64_t word : grid[g].Occupancy)
@@ -178,17 +178,20 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
     }
     totalMass += brick.Mass;
   }
-  std::vector<Brick>().swap(grid);
+  grid.reset();
 
   // Pass 2, fixed blocks of bricks: the mu of the occupied voxels in Morton order.
-  m_Mu.resize(numberOfVoxels);
+  // Not value-initialized: the parallel pass below first-touches it (no single-threaded zero fill of ~4 bytes per
+  // non-air voxel).
+  m_Mu.reset(new float[numberOfVoxels]);
+  m_NumberOfNonAirVoxels = numberOfVoxels;
   constexpr uint64_t bricksPerBlock = 256;
   ForEachBlock((m_Bricks.size() + bricksPerBlock - 1) / bricksPerBlock, [&](uint64_t block) {
     const uint64_t end = std::min<uint64_t>(m_Bricks.size(), (block + 1) * bricksPerBlock);
     for (uint64_t b = block * bricksPerBlock; b < end; ++b)
     {
       const Brick & brick = m_Bricks[b];
-      float *       out = m_Mu.data() + brick.FirstVoxel;
+      float *       out = m_Mu.get() + brick.FirstVoxel;
       for (unsigned int g = 0; g < 8; ++g)
       {
         for (uint64_t bits = brick.Occupancy[g]; bits; bits &= bits - 1)
@@ -222,7 +225,7 @@ DRRStratifiedSampler::UseAllBricks()
   }
   m_ViewPrefix[m_Bricks.size()] = running;
   m_SampledMass = running * m_VoxelVolume;
-  m_ViewVoxels = m_Mu.size();
+  m_ViewVoxels = m_NumberOfNonAirVoxels;
 }
 
 void
@@ -278,7 +281,8 @@ DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kern
       m_ViewBricks.push_back(static_cast<uint32_t>(b));
       m_ViewPrefix.push_back(running);
       running += brick.Mass;
-      m_ViewVoxels += (b + 1 < m_Bricks.size() ? m_Bricks[b + 1].FirstVoxel : m_Mu.size()) - brick.FirstVoxel;
+      m_ViewVoxels +=
+        (b + 1 < m_Bricks.size() ? m_Bricks[b + 1].FirstVoxel : m_NumberOfNonAirVoxels) - brick.FirstVoxel;
     }
   }
   m_ViewPrefix.push_back(running);
@@ -477,7 +481,7 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
   const double              inverseStep = 1.0 / step;
   const uint64_t            endIndex = firstIndex + range.Count;
   const MortonInsideBrick & morton = GetMortonInsideBrick();
-  const float *             mu = m_Mu.data();
+  const float *             mu = m_Mu.get();
   uint64_t                  index = firstIndex;
   // The cursor (see Locate()) in locals: it changes at every voxel.
   uint64_t b = cursor.Position[0], group = cursor.Position[1], bits = cursor.Position[2], voxel = cursor.Position[3];
@@ -580,8 +584,8 @@ DRRStratifiedSampler::GenerateBatch(DRRPhiloxRandom &,
 size_t
 DRRStratifiedSampler::GetTableSizeInBytes() const
 {
-  return m_Mu.size() * sizeof(float) + m_Bricks.size() * sizeof(Brick) + m_ViewBricks.capacity() * sizeof(uint32_t) +
-         m_ViewPrefix.capacity() * sizeof(double);
+  return m_NumberOfNonAirVoxels * sizeof(float) + m_Bricks.size() * sizeof(Brick) +
+         m_ViewBricks.capacity() * sizeof(uint32_t) + m_ViewPrefix.capacity() * sizeof(double);
 }
 
 void
@@ -590,7 +594,7 @@ DRRStratifiedSampler::PrintSelf(std::ostream & os, Indent indent) const
   Superclass::PrintSelf(os, indent);
   os << indent << "Bricks (non-empty, 8^3 voxels): " << m_Bricks.size() << std::endl;
   os << indent << "Bricks in the view: " << m_ViewBricks.size() << std::endl;
-  os << indent << "Non-air voxels: " << m_Mu.size() << std::endl;
+  os << indent << "Non-air voxels: " << m_NumberOfNonAirVoxels << std::endl;
   os << indent << "SampledMass (mm^2): " << m_SampledMass << std::endl;
 }
 } // namespace itk
