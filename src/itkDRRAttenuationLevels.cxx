@@ -97,15 +97,17 @@ DRRAttenuationLevels::BuildBinned(const DRRAttenuationVolume & volume, unsigned 
   // Log-spaced bins between the smallest and largest positive mu: the relative spread of mu inside a bin, and so
   // the spread of the correction weights, is about the same small ratio in every bin. Air takes the extra key
   // numberOfKeys, which keeps the loops below free of branches where air and tissue mix.
-  const uint32_t numberOfKeys = std::max(1u, numberOfBins);
+  const uint32_t numberOfKeys = std::min(std::max(1u, numberOfBins), 1u << 24);
   const uint32_t airKey = numberOfKeys;
+  // key = (PseudoLog2(mu) - PseudoLog2(smallest)) * numberOfKeys / range, in 32.32 fixed point: the scale is
+  // rounded down, so the largest mu stays below numberOfKeys. Integer arithmetic, the same bits everywhere.
   const int64_t  logSmallest = PseudoLog2(static_cast<float>(volume.GetSmallestPositiveMu()));
-  const double   keysPerLog =
-    static_cast<double>(numberOfKeys) /
-    static_cast<double>(PseudoLog2(static_cast<float>(volume.ComputeMaximumMu())) - logSmallest + 1);
-  const auto keyOf = [&](float m) {
-    const double position = std::max(0.0, static_cast<double>(PseudoLog2(m) - logSmallest) * keysPerLog);
-    return m > 0.0f ? std::min(numberOfKeys - 1, static_cast<uint32_t>(position)) : airKey;
+  const uint64_t logRange =
+    static_cast<uint64_t>(PseudoLog2(static_cast<float>(volume.ComputeMaximumMu())) - logSmallest) + 1;
+  const uint64_t scale = (static_cast<uint64_t>(numberOfKeys) << 32) / logRange;
+  const auto     keyOf = [&](float m) {
+    const uint64_t offset = static_cast<uint64_t>(std::max<int64_t>(0, PseudoLog2(m) - logSmallest));
+    return m > 0.0f ? static_cast<uint32_t>((offset * scale) >> 32) : airKey;
   };
 
   // Counting sort of the non-air voxels by key over fixed blocks (the volume's, fewer if the per-block tallies
@@ -130,16 +132,38 @@ DRRAttenuationLevels::BuildBinned(const DRRAttenuationVolume & volume, unsigned 
       tally.MuSum.assign(numberOfKeys + 1, 0.0);
       tally.SmallestMu.assign(numberOfKeys + 1, std::numeric_limits<float>::max());
       tally.LargestMu.assign(numberOfKeys + 1, 0.0f);
+      // Runs of one key (air, and the flat regions of real volumes) are summed in registers, not through memory.
       const uint64_t end = blockBegin(b + 1);
+      uint32_t       runKey = keyOf(mu[blockBegin(b)]);
+      uint32_t       runCount = 0;
+      double         runSum = 0.0;
+      float          runSmallest = std::numeric_limits<float>::max();
+      float          runLargest = 0.0f;
+      const auto     endRun = [&]() {
+        tally.Count[runKey] += runCount;
+        tally.MuSum[runKey] += runSum;
+        tally.SmallestMu[runKey] = std::min(tally.SmallestMu[runKey], runSmallest);
+        tally.LargestMu[runKey] = std::max(tally.LargestMu[runKey], runLargest);
+      };
       for (uint64_t v = blockBegin(b); v < end; ++v)
       {
         const float    m = mu[v];
         const uint32_t key = keyOf(m);
-        ++tally.Count[key];
-        tally.MuSum[key] += m;
-        tally.SmallestMu[key] = std::min(tally.SmallestMu[key], m);
-        tally.LargestMu[key] = std::max(tally.LargestMu[key], m);
+        if (key != runKey)
+        {
+          endRun();
+          runKey = key;
+          runCount = 0;
+          runSum = 0.0;
+          runSmallest = std::numeric_limits<float>::max();
+          runLargest = 0.0f;
+        }
+        ++runCount;
+        runSum += m;
+        runSmallest = std::min(runSmallest, m);
+        runLargest = std::max(runLargest, m);
       }
+      endRun();
     },
     nullptr);
 
