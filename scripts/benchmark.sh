@@ -11,7 +11,7 @@
 # writing OUT/NAME.{csv,md,log} and NAME_agreement.csv, then plots IMAGES/benchmark_NAME.png.
 #
 #   bash scripts/benchmark.sh                  # the full run: samples up to 1e9, 3 runs (hours on 2 cores)
-#   BENCH_QUICK=1 bash scripts/benchmark.sh    # quick check: samples up to 1e7, 1 run (about 15 minutes)
+#   BENCH_QUICK=1 bash scripts/benchmark.sh    # quick check: samples up to 1e7, 1 run (about 20 minutes)
 #
 # Environment (defaults in brackets; BENCH_QUICK=1 changes the ones marked *):
 #   BENCH_ONLY         names of the configurations to run [all five]
