@@ -238,6 +238,7 @@ DRRAttenuationLevels::BuildBinned(const DRRAttenuationVolume & volume, unsigned 
       {
         const uint32_t key = keyOf(mu[v]);
         const uint32_t slot = position[key];
+        DRRAttenuationVolumeDetail::PrefetchNextLineForWrite(voxels + slot);
         voxels[slot] = static_cast<uint32_t>(v);
         position[key] = slot + step[key];
       }
