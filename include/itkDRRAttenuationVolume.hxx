@@ -298,6 +298,7 @@ DRRAttenuationVolume::BuildLevels(const TValue *              values,
         failure.Voxel = v;
         failure.Value = static_cast<double>(values[v]);
         failure.Attenuation = transfer.Evaluate(failure.Value);
+        this->Reset(m_Size);
         this->ThrowFailure(failure);
       }
     }
@@ -305,7 +306,8 @@ DRRAttenuationVolume::BuildLevels(const TValue *              values,
 
   if (!m_LevelMu.empty())
   {
-    m_SmallestPositiveMu = m_LevelMu.front();
+    // mu need not grow with the input value (piecewise-linear transfer functions).
+    m_SmallestPositiveMu = *std::min_element(m_LevelMu.begin(), m_LevelMu.end());
     m_LargestMu = *std::max_element(m_LevelMu.begin(), m_LevelMu.end());
   }
 
@@ -408,7 +410,7 @@ DRRAttenuationVolume::BuildMu(const TValue * values, const DRRTransferFunction &
   {
     if (failure.Voxel < numberOfVoxels)
     {
-      m_Mu.reset();
+      this->Reset(m_Size);
       this->ThrowFailure(failure);
     }
   }

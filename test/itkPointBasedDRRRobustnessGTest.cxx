@@ -1410,14 +1410,30 @@ MakeBlockyVolume(const std::function<typename TVolume::PixelType(uint64_t)> & va
   return volume;
 }
 
+/** A transfer function: a mode, or piecewise-linear points when given. */
+struct Transfer
+{
+  TransferEnum                            Mode{ TransferEnum::Natural };
+  itk::DRRTransferFunction::PointListType Points;
+  void
+  Apply(itk::DRRTransferFunction * transfer) const
+  {
+    transfer->SetMode(Mode);
+    if (!Points.empty())
+    {
+      transfer->SetPiecewiseLinearPoints(Points);
+    }
+  }
+};
+
 /** The attenuation volume of an input, built on a number of threads. */
 template <typename TVolume>
 itk::DRRAttenuationVolume::ConstPointer
-BuildOnThreads(const TVolume * input, unsigned int threads, TransferEnum mode)
+BuildOnThreads(const TVolume * input, unsigned int threads, const Transfer & mode)
 {
   auto drr = PointBasedFilter<TVolume>::New();
   drr->SetInput(input);
-  drr->GetTransferFunction()->SetMode(mode);
+  mode.Apply(drr->GetTransferFunction());
   drr->GetMultiThreader()->SetMaximumNumberOfThreads(threads);
   drr->SetNumberOfWorkUnits(threads);
   return drr->GetAttenuationVolume();
@@ -1453,11 +1469,11 @@ template <typename TVolume>
 void
 ExpectVolumeMatchesTransfer(const TVolume *                   input,
                             const itk::DRRAttenuationVolume & volume,
-                            TransferEnum                      mode,
+                            const Transfer &                  mode,
                             const std::string &               context)
 {
   auto transfer = itk::DRRTransferFunction::New();
-  transfer->SetMode(mode);
+  mode.Apply(transfer);
   const auto *  values = input->GetBufferPointer();
   const float * mu = volume.GetMuBuffer();
   uint64_t      mismatches = 0;
@@ -1524,7 +1540,7 @@ SamplerFingerprint(const std::string & name, const itk::DRRAttenuationVolume & v
 
 template <typename TVolume>
 void
-ExpectReproduciblePreprocessing(const TVolume * input, TransferEnum mode, bool levels, const std::string & context)
+ExpectReproduciblePreprocessing(const TVolume * input, const Transfer & mode, bool levels, const std::string & context)
 {
   const auto reference = BuildOnThreads(input, 1, mode);
   EXPECT_EQ(reference->HasLevels(), levels) << context;
@@ -1554,36 +1570,43 @@ TEST(PointBasedDRRPreprocessing, SameBitsOnAnyThreadsAndMuOfEveryVoxelFromTheTra
   const auto hu = [](uint64_t v) { return static_cast<short>(static_cast<int>(Hash(v) % 3300) - 1100); };
   const auto shortCT = MakeBlockyVolume<HUVolumeType>(hu);
   const auto floatCT = MakeBlockyVolume<MuVolumeType>([&](uint64_t v) { return static_cast<float>(hu(v)); });
-  ExpectReproduciblePreprocessing(shortCT.GetPointer(), TransferEnum::Natural, true, "short HU");
-  ExpectReproduciblePreprocessing(floatCT.GetPointer(), TransferEnum::Natural, true, "integer float HU");
-  ExpectSameVolume(*BuildOnThreads(shortCT.GetPointer(), 2, TransferEnum::Natural),
-                   *BuildOnThreads(floatCT.GetPointer(), 2, TransferEnum::Natural),
+  ExpectReproduciblePreprocessing(shortCT.GetPointer(), Transfer{}, true, "short HU");
+  ExpectReproduciblePreprocessing(floatCT.GetPointer(), Transfer{}, true, "integer float HU");
+  ExpectSameVolume(*BuildOnThreads(shortCT.GetPointer(), 2, Transfer{}),
+                   *BuildOnThreads(floatCT.GetPointer(), 2, Transfer{}),
                    "short and float HU");
+
+  // A piecewise-linear transfer function whose mu falls, then rises: the smallest mu is not the lowest value's.
+  ExpectReproduciblePreprocessing(
+    shortCT.GetPointer(),
+    Transfer{ TransferEnum::PiecewiseLinear, { { -1100.0, 0.05 }, { 0.0, 0.001 }, { 2200.0, 0.02 } } },
+    true,
+    "short HU, falling and rising mu");
 
   // Beyond int16 but spanning less than 2^16: levels from the smallest value.
   using IntVolumeType = itk::Image<int, 3>;
   const auto wide =
     MakeBlockyVolume<IntVolumeType>([](uint64_t v) { return 40000 + static_cast<int>(Hash(v) % 20000); });
-  ExpectReproduciblePreprocessing(wide.GetPointer(), TransferEnum::Natural, true, "int beyond int16");
+  ExpectReproduciblePreprocessing(wide.GetPointer(), Transfer{}, true, "int beyond int16");
 
   // Spanning more than 2^16, or not integers (a fraction of 1/1024 on one voxel is enough): mu per voxel, binned by
   // the level samplers.
   const auto wider =
     MakeBlockyVolume<IntVolumeType>([](uint64_t v) { return static_cast<int>(Hash(v) % 100000) - 1000; });
-  ExpectReproduciblePreprocessing(wider.GetPointer(), TransferEnum::Natural, false, "int spanning 100000");
+  ExpectReproduciblePreprocessing(wider.GetPointer(), Transfer{}, false, "int spanning 100000");
   const auto almost = MakeBlockyVolume<MuVolumeType>(
     [&](uint64_t v) { return static_cast<float>(hu(v)) + (v == blockyVoxels - 7 ? 1.0f / 1024.0f : 0.0f); });
-  ExpectReproduciblePreprocessing(almost.GetPointer(), TransferEnum::Natural, false, "float HU with one fraction");
+  ExpectReproduciblePreprocessing(almost.GetPointer(), Transfer{}, false, "float HU with one fraction");
   const auto mu = MakeBlockyVolume<MuVolumeType>(
     [](uint64_t v) { return Hash(v) % 5 == 0 ? 0.0f : static_cast<float>(Hash(v) % 100000) * 1e-6f; });
-  ExpectReproduciblePreprocessing(mu.GetPointer(), TransferEnum::Identity, false, "mu");
+  ExpectReproduciblePreprocessing(mu.GetPointer(), Transfer{ TransferEnum::Identity, {} }, false, "mu");
 }
 
 TEST(PointBasedDRRPreprocessing, LevelTablesTakeFourBytesPerNonAirVoxel)
 {
   const auto ct = MakeBlockyVolume<HUVolumeType>(
     [](uint64_t v) { return static_cast<short>(static_cast<int>(Hash(v) % 3300) - 1100); });
-  const auto volume = BuildOnThreads(ct.GetPointer(), 2, TransferEnum::Natural);
+  const auto volume = BuildOnThreads(ct.GetPointer(), 2, Transfer{});
   const auto nonAir = static_cast<double>(volume->GetLevelStart(volume->GetNumberOfLevels()));
   for (const std::string name : { "level-alias", "paper-hybrid", "metropolis" })
   {
