@@ -37,8 +37,9 @@ DRRWorkScheduler::Run(MultiThreaderBase * threader,
 {
   const unsigned int workers = GetNumberOfWorkers(threader, numberOfItems);
   // Two items per worker and wave keep every worker busy; 16 to 50 waves give smooth progress at little barrier cost.
-  const uint64_t waves =
-    std::min<uint64_t>(50, std::max<uint64_t>(std::min<uint64_t>(numberOfItems, 16), numberOfItems / (2 * workers)));
+  // With few items, progress gives way: a wave holds at least two items, so never runs on one thread alone.
+  const uint64_t waves = std::clamp<uint64_t>(
+    std::max<uint64_t>(numberOfItems / (2 * workers), std::min<uint64_t>(16, numberOfItems / 2)), 1, 50);
   for (uint64_t wave = 0; wave < waves; ++wave)
   {
     const uint64_t        end = numberOfItems * (wave + 1) / waves;
