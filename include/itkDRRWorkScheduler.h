@@ -29,10 +29,11 @@ namespace itk
 /** \class DRRWorkScheduler
  * \brief Runs numbered work items on ITK's threads, reporting progress and honouring abort.
  *
- * Items are handed out dynamically to one worker per thread, in up to 50 waves of at least two items per worker.
- * Between waves the calling thread (the pipeline's) updates the filter's progress, which is what makes ProgressEvent
- * observers fire during the work (ITK invokes them only from that thread), and throws ProcessAborted if
- * AbortGenerateData is set. A worker index in [0, GetNumberOfWorkers()) lets each worker own an accumulator.
+ * Items are handed out dynamically to one worker per thread, in 16 to 50 waves of at least two items each (fewer
+ * waves for fewer items). Between waves the calling thread (the pipeline's) updates the filter's progress, which is
+ * what makes ProgressEvent observers fire during the work (ITK invokes them only from that thread), and throws
+ * ProcessAborted if AbortGenerateData is set. A worker index in [0, GetNumberOfWorkers()) lets each worker own an
+ * accumulator.
  *
  * \ingroup PointBasedDRR
  */
