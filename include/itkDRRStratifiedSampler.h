@@ -36,8 +36,9 @@ namespace itk
  * evenly through space because the curve keeps neighbours together. The estimate stays unbiased (each point is
  * uniform over the mass for a uniform U) and every weight is 1. Points are not independent: the renderer draws 4
  * strata (by default) with independent offsets and estimates the standard error from their spread. Beyond the paper,
- * whose future work named low-discrepancy sampling. Inside the voxel, points follow a randomly shifted R2
- * low-discrepancy sequence.
+ * whose future work named low-discrepancy sampling. Inside the voxel, points are jittered by a hashed sequence
+ * (exactly uniform per point, decorrelated between neighbours; a low-discrepancy R2 sequence was tried and aliased on
+ * regular structures of the head CT).
  *
  * Model only what the view sees: SetView() keeps the bricks whose points can reach the detector (their corners,
  * widened by the kernel's reach, projected; the convex hull of a box in front of the source is the hull of its
@@ -95,8 +96,8 @@ public:
     return 4;
   }
 
-  /** Low-discrepancy jitter: the R2 sequence (steps of 1 / plastic number^k per axis) with a random shift per
-   * stratum, so each point is uniform in its voxel and consecutive points of a stratum spread evenly. */
+  /** The sampler places its points inside the voxel itself: the SplitMix64 finalizer of a Weyl sequence from a
+   * uniform shift per stratum (cheaper than the renderer's Philox stream, and as uniform). */
   bool
   ProvidesJitter() const override
   {

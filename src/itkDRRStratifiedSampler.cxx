@@ -357,7 +357,7 @@ DRRStratifiedSampler::CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_
 
 namespace
 {
-/** One stratum of a run: its systematic offset U in [0, 1) and its R2 shifts (0.64 fixed point). */
+/** One stratum of a run: its systematic offset U in [0, 1) and its jitter shifts (uniform 64-bit words). */
 struct StratumStart
 {
   double   Offset;
@@ -415,19 +415,27 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
   // Sample q of the run: point q / R of stratum strata[q % R]; kept as (point, position) to avoid divisions.
   uint64_t point = firstIndex / numberOfStrata;
   uint64_t position = firstIndex % numberOfStrata;
-  // R2 jitter, x_i = frac(shift + i alpha) per stratum, alpha_k = 1 / phi^k with phi the plastic number
-  // (phi^3 = phi + 1); in 0.64 fixed point the fractional part is the wrap-around of unsigned arithmetic.
-  constexpr uint64_t alpha[3] = { 0xC13FA9A902A6328Full, 0x91E10DA5C79E7B1Cull, 0x6E1EF25A386184E3ull };
-  const auto         emit = [&](uint64_t s, uint32_t i, uint32_t j, uint32_t k) {
+  // Jitter: the SplitMix64 finalizer (a bijection of 64-bit words) of a Weyl sequence started at the stratum's uniform
+  // shift, so every point's jitter is exactly uniform and neighbours along the curve are decorrelated. (A
+  // low-discrepancy R2 sequence here aliased: on the head CT, voxels met at a regular stride of the sequence got nearly
+  // equal offsets, a seed-dependent pattern whose amplitude did not fall with N.)
+  const auto mix = [](uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  };
+  const auto emit = [&](uint64_t s, uint32_t i, uint32_t j, uint32_t k) {
     const StratumStart & stratum = strata[position];
     batch.I[s] = i;
     batch.J[s] = j;
     batch.K[s] = k;
     batch.Weight[s] = 1.0;
     batch.Stratum[s] = stratum.Id;
-    batch.JitterX[s] = static_cast<uint32_t>((stratum.Shift[0] + point * alpha[0]) >> 32);
-    batch.JitterY[s] = static_cast<uint32_t>((stratum.Shift[1] + point * alpha[1]) >> 32);
-    batch.JitterZ[s] = static_cast<uint32_t>((stratum.Shift[2] + point * alpha[2]) >> 32);
+    const uint64_t first = mix(stratum.Shift[0] + point * 0x9E3779B97F4A7C15ull);
+    const uint64_t second = mix(stratum.Shift[1] + point * 0x9E3779B97F4A7C15ull);
+    batch.JitterX[s] = static_cast<uint32_t>(first);
+    batch.JitterY[s] = static_cast<uint32_t>(first >> 32);
+    batch.JitterZ[s] = static_cast<uint32_t>(second);
     if (++position == numberOfStrata)
     {
       position = 0;
