@@ -73,26 +73,11 @@ COMMON=(--max-samples "$MAX" --runs "$RUNS" --budget "$BUDGET" --description "$D
 # shellcheck disable=SC2206
 [ -n "${BENCH_ARGS:-}" ] && COMMON+=($BENCH_ARGS)
 
-# The InVesalius head as scripts/demo.sh extracts it (int16 HU, y flipped to LPS through the direction matrix).
+# The InVesalius head as scripts/demo.sh extracts it (scripts/invesalius-head.sh).
 head_volume() {
-  local dir=$root/out/demo inv3=/usr/share/doc/invesalius-examples/examples/Cranium.inv3
+  local dir=$root/out/demo
   if [ -f "$dir/head.mha" ] && [ -f "$dir/matrix.dat" ]; then echo "$dir/head.mha"; return; fi
-  [ -f "$inv3" ] || return 1
-  mkdir -p "$dir"
-  tar -xzf "$inv3" -C "$dir" --wildcards '*matrix.dat' --transform 's|.*/||'
-  cat >"$dir/head.mha" <<'HEADER'
-ObjectType = Image
-NDims = 3
-BinaryData = True
-BinaryDataByteOrderMSB = False
-TransformMatrix = 1 0 0 0 -1 0 0 0 1
-Offset = 0 0 0
-ElementSpacing = 0.9570312 0.9570312 1.5
-DimSize = 256 256 108
-ElementType = MET_SHORT
-ElementDataFile = matrix.dat
-HEADER
-  echo "$dir/head.mha"
+  bash "$root/scripts/invesalius-head.sh" "$dir"
 }
 
 ran=() failed=()
