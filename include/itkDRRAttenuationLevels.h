@@ -83,6 +83,12 @@ public:
   {
     return m_Voxels[m_Start[level] + i];
   }
+  /** Where GetVoxel(level, i) is stored (to prefetch it). */
+  const uint32_t *
+  GetVoxelAddress(size_t level, uint64_t i) const
+  {
+    return m_Voxels + m_Start[level] + i;
+  }
   /** Exact-sampling correction of a voxel drawn uniformly from its level: 1 when levels are uniform. */
   double
   GetCorrection(uint32_t voxel, size_t level) const

@@ -37,15 +37,27 @@ DRRLevelAliasSampler::GenerateBatch(DRRPhiloxRandom &   random,
                                     uint64_t *          voxelIndex,
                                     double *            weight) const
 {
-  const uint64_t count = range.Count;
-  for (uint64_t i = 0; i < count; ++i)
+  // Blocks of samples in two passes: draw every level and rank, prefetching the list entry, then read the entries.
+  // The random reads of a block then overlap instead of waiting one after another (same draws, same results).
+  constexpr uint64_t block = 64;
+  uint32_t           levels[block];
+  uint64_t           ranks[block];
+  for (uint64_t first = 0; first < range.Count; first += block)
   {
-    const DRRPhiloxRandom::BlockType bits = random.Next();
-    const uint32_t                   level = m_AliasTable.Draw(bits[0], bits[1]);
-    const uint32_t                   voxel =
-      m_Levels.GetVoxel(level, DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(level)));
-    voxelIndex[i] = voxel;
-    weight[i] = m_Levels.GetCorrection(voxel, level);
+    const uint64_t count = std::min(block, range.Count - first);
+    for (uint64_t i = 0; i < count; ++i)
+    {
+      const DRRPhiloxRandom::BlockType bits = random.Next();
+      levels[i] = m_AliasTable.Draw(bits[0], bits[1]);
+      ranks[i] = DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(levels[i]));
+      __builtin_prefetch(m_Levels.GetVoxelAddress(levels[i], ranks[i]));
+    }
+    for (uint64_t i = 0; i < count; ++i)
+    {
+      const uint32_t voxel = m_Levels.GetVoxel(levels[i], ranks[i]);
+      voxelIndex[first + i] = voxel;
+      weight[first + i] = m_Levels.GetCorrection(voxel, levels[i]);
+    }
   }
 }
 
