@@ -64,38 +64,10 @@ public:
     return m_Perspective;
   }
 
-  /** Projects a continuous voxel index. Returns false if the point does not count (behind the source, beyond the
-   * detector plane, or nearer the source than the minimum depth). column/row are continuous pixel indices (pixel
-   * centres at integers); weight is the perspective weight (1 for parallel). */
-  bool
-  Project(const double p[3], double & column, double & row, double & weight) const
-  {
-    const double pu = m_PU0 + m_GU[0] * p[0] + m_GU[1] * p[1] + m_GU[2] * p[2];
-    const double pv = m_PV0 + m_GV[0] * p[0] + m_GV[1] * p[1] + m_GV[2] * p[2];
-    if (!m_Perspective)
-    {
-      column = pu * m_InverseDU + m_ColumnShift;
-      row = pv * m_InverseDV + m_RowShift;
-      weight = 1.0;
-      return true;
-    }
-    const double z = m_Z0 + m_GZ[0] * p[0] + m_GZ[1] * p[1] + m_GZ[2] * p[2];
-    if (!(z >= m_MinimumDepth) || z > m_SID)
-    {
-      return false;
-    }
-    const double inverseZ = 1.0 / z;
-    const double tu = pu * inverseZ;
-    const double tv = pv * inverseZ;
-    column = tu * m_SIDOverDU + m_ColumnShift;
-    row = tv * m_SIDOverDV + m_RowShift;
-    const double magnification = m_SID * inverseZ;
-    weight = magnification * magnification * std::sqrt(1.0 + tu * tu + tv * tv);
-    return true;
-  }
-
-  /** Project() for n points at once, branch-free so that it vectorizes: x, y, z are continuous indices; a point that
-   * does not count gets weight 0 and column -4 (off the detector for every splat). */
+  /** Projects n points given as continuous voxel indices (x, y, z): column and row are continuous pixel indices
+   * (pixel centres at integers), weight the perspective weight (1 for parallel). A point that does not count (behind
+   * the source, beyond the detector plane, or nearer the source than the minimum depth) gets weight 0 and column -4,
+   * off the detector for every splat. Branch-free, so that the loop vectorizes. */
   void
   ProjectBatch(size_t               n,
                const double * const x,

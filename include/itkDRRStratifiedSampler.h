@@ -166,8 +166,10 @@ private:
   void
   CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_t & j, uint32_t & k) const;
 
+  /** Makes the bricks keep(brick) accepts the sampled ones (in curve order), with their mass prefix. */
+  template <typename TKeep>
   void
-  UseAllBricks();
+  KeepBricks(TKeep && keep);
 
   std::vector<Brick>             m_Bricks; // non-empty bricks, Morton order
   std::unique_ptr<float[]>       m_Mu;     // mu of the non-air voxels, brick by brick, Morton order inside (1/mm)

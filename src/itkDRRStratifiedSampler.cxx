@@ -70,6 +70,17 @@ GetMortonInsideBrick()
   return table;
 }
 
+/** Voxel index (i, j, k) of the voxel at Morton position `position` (0 .. 511) of the brick whose brick coordinates are
+ * origin. */
+std::array<uint32_t, 3>
+VoxelInBrick(const uint16_t origin[3], uint64_t position)
+{
+  const uint16_t offset = GetMortonInsideBrick().Offset[position];
+  return { { static_cast<uint32_t>(origin[0] * brickSide + (offset & 7u)),
+             static_cast<uint32_t>(origin[1] * brickSide + ((offset >> 3) & 7u)),
+             static_cast<uint32_t>(origin[2] * brickSide + (offset >> 6)) } };
+}
+
 /** Lowest set bit. */
 unsigned int
 LowestBit(uint64_t bits)
@@ -77,15 +88,6 @@ LowestBit(uint64_t bits)
   return static_cast<unsigned int>(__builtin_ctzll(bits));
 }
 
-/** Runs work(block) for blocks 0 .. numberOfBlocks - 1 on the default threader. */
-template <typename TWork>
-void
-ForEachBlock(uint64_t numberOfBlocks, TWork && work)
-{
-  auto threader = MultiThreaderBase::New();
-  threader->ParallelizeArray(
-    0, numberOfBlocks, [&](SizeValueType block) { work(static_cast<uint64_t>(block)); }, nullptr);
-}
 } // namespace
 
 void
@@ -116,35 +118,38 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
   // masses are exact sums (see Brick), so the order of this pass does not matter.
   const uint64_t           numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
   std::unique_ptr<Brick[]> grid(new Brick[bricksPerAxis[0] * numberOfBrickRows]); // each set in pass 1
-  ForEachBlock(numberOfBrickRows, [&](uint64_t brickRow) {
-    const uint64_t by = brickRow % bricksPerAxis[1];
-    const uint64_t bz = brickRow / bricksPerAxis[1];
-    Brick *        row = grid.get() + brickRow * bricksPerAxis[0];
-    for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
-    {
-      row[bx] = Brick{};
-      row[bx].Origin[0] = static_cast<uint16_t>(bx);
-      row[bx].Origin[1] = static_cast<uint16_t>(by);
-      row[bx].Origin[2] = static_cast<uint16_t>(bz);
-    }
-    for (uint64_t dz = 0; dz < brickSide && bz * brickSide + dz < size[2]; ++dz)
-    {
-      for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
+  DRRAttenuationVolume::ParallelizeBlocks(
+    numberOfBrickRows,
+    [&](uint64_t brickRow) {
+      const uint64_t by = brickRow % bricksPerAxis[1];
+      const uint64_t bz = brickRow / bricksPerAxis[1];
+      Brick *        row = grid.get() + brickRow * bricksPerAxis[0];
+      for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
       {
-        const float * line = mu + size[0] * (by * brickSide + dy + size[1] * (bz * brickSide + dz));
-        for (uint64_t x = 0; x < size[0]; ++x)
+        row[bx] = Brick{};
+        row[bx].Origin[0] = static_cast<uint16_t>(bx);
+        row[bx].Origin[1] = static_cast<uint16_t>(by);
+        row[bx].Origin[2] = static_cast<uint16_t>(bz);
+      }
+      for (uint64_t dz = 0; dz < brickSide && bz * brickSide + dz < size[2]; ++dz)
+      {
+        for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
         {
-          if (line[x] > 0.0f)
+          const float * line = mu + size[0] * (by * brickSide + dy + size[1] * (bz * brickSide + dz));
+          for (uint64_t x = 0; x < size[0]; ++x)
           {
-            const uint16_t code = morton.Code[(x % brickSide) | dy << 3 | dz << 6];
-            Brick &        brick = row[x / brickSide];
-            brick.Occupancy[code >> 6] |= uint64_t{ 1 } << (code & 63u);
-            brick.GroupMass[code >> 6] += line[x];
+            if (line[x] > 0.0f)
+            {
+              const uint16_t code = morton.Code[(x % brickSide) | dy << 3 | dz << 6];
+              Brick &        brick = row[x / brickSide];
+              brick.Occupancy[code >> 6] |= uint64_t{ 1 } << (code & 63u);
+              brick.GroupMass[code >> 6] += line[x];
+            }
           }
         }
       }
-    }
-  });
+    },
+    nullptr);
 
   // The non-empty bricks in Morton order, and where their voxels start.
   std::vector<std::pair<uint64_t, uint64_t>> coded; // (Morton code, grid index)
@@ -186,46 +191,52 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
   m_Mu.reset(new float[numberOfVoxels]);
   m_NumberOfNonAirVoxels = numberOfVoxels;
   constexpr uint64_t bricksPerBlock = 256;
-  ForEachBlock((m_Bricks.size() + bricksPerBlock - 1) / bricksPerBlock, [&](uint64_t block) {
-    const uint64_t end = std::min<uint64_t>(m_Bricks.size(), (block + 1) * bricksPerBlock);
-    for (uint64_t b = block * bricksPerBlock; b < end; ++b)
-    {
-      const Brick & brick = m_Bricks[b];
-      float *       out = m_Mu.get() + brick.FirstVoxel;
-      for (unsigned int g = 0; g < 8; ++g)
-      {
-        for (uint64_t bits = brick.Occupancy[g]; bits; bits &= bits - 1)
-        {
-          const uint16_t offset = morton.Offset[64 * g + LowestBit(bits)];
-          const uint64_t x = brick.Origin[0] * brickSide + (offset & 7u);
-          const uint64_t y = brick.Origin[1] * brickSide + ((offset >> 3) & 7u);
-          const uint64_t z = brick.Origin[2] * brickSide + (offset >> 6);
-          *out++ = mu[x + size[0] * (y + size[1] * z)];
-        }
-      }
-    }
-  });
+  DRRAttenuationVolume::ParallelizeBlocks((m_Bricks.size() + bricksPerBlock - 1) / bricksPerBlock,
+                                          [&](uint64_t block) {
+                                            const uint64_t end =
+                                              std::min<uint64_t>(m_Bricks.size(), (block + 1) * bricksPerBlock);
+                                            for (uint64_t b = block * bricksPerBlock; b < end; ++b)
+                                            {
+                                              const Brick & brick = m_Bricks[b];
+                                              float *       out = m_Mu.get() + brick.FirstVoxel;
+                                              for (unsigned int g = 0; g < 8; ++g)
+                                              {
+                                                for (uint64_t bits = brick.Occupancy[g]; bits; bits &= bits - 1)
+                                                {
+                                                  const auto v = VoxelInBrick(brick.Origin, 64 * g + LowestBit(bits));
+                                                  *out++ = mu[v[0] + size[0] * (v[1] + size[1] * uint64_t{ v[2] })];
+                                                }
+                                              }
+                                            }
+                                          },
+                                          nullptr);
   m_TotalMass = totalMass * m_VoxelVolume;
   m_MaximumWeight = 1.0;
-  this->UseAllBricks();
+  this->SetView(nullptr, 0.0, 0.0); // every brick until a view is set
   this->Modified();
 }
 
+template <typename TKeep>
 void
-DRRStratifiedSampler::UseAllBricks()
+DRRStratifiedSampler::KeepBricks(TKeep && keep)
 {
-  m_ViewBricks.resize(m_Bricks.size());
-  m_ViewPrefix.resize(m_Bricks.size() + 1);
+  m_ViewBricks.clear();
+  m_ViewPrefix.clear();
+  m_ViewVoxels = 0;
   double running = 0.0;
   for (size_t b = 0; b < m_Bricks.size(); ++b)
   {
-    m_ViewBricks[b] = static_cast<uint32_t>(b);
-    m_ViewPrefix[b] = running;
-    running += m_Bricks[b].Mass;
+    if (keep(m_Bricks[b]))
+    {
+      m_ViewBricks.push_back(static_cast<uint32_t>(b));
+      m_ViewPrefix.push_back(running);
+      running += m_Bricks[b].Mass;
+      m_ViewVoxels +=
+        (b + 1 < m_Bricks.size() ? m_Bricks[b + 1].FirstVoxel : m_NumberOfNonAirVoxels) - m_Bricks[b].FirstVoxel;
+    }
   }
-  m_ViewPrefix[m_Bricks.size()] = running;
+  m_ViewPrefix.push_back(running);
   m_SampledMass = running * m_VoxelVolume;
-  m_ViewVoxels = m_NumberOfNonAirVoxels;
 }
 
 void
@@ -233,7 +244,7 @@ DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kern
 {
   if (!projection)
   {
-    this->UseAllBricks();
+    this->KeepBricks([](const Brick &) { return true; });
     return;
   }
   // A point of brick b lies in [8 b - 0.5 - reach, 8 b + 7.5 + reach] per axis (continuous index, clipped to what the
@@ -243,14 +254,8 @@ DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kern
   const double columnHigh = projection->GetNumberOfColumns() - 1.0 + pixelReach + margin;
   const double rowLow = -pixelReach - margin;
   const double rowHigh = projection->GetNumberOfRows() - 1.0 + pixelReach + margin;
-  m_ViewBricks.clear();
-  m_ViewPrefix.clear();
-  m_ViewVoxels = 0;
-  double running = 0.0;
-  for (size_t b = 0; b < m_Bricks.size(); ++b)
-  {
-    const Brick & brick = m_Bricks[b];
-    double        lower[3], upper[3];
+  this->KeepBricks([&](const Brick & brick) {
+    double lower[3], upper[3];
     for (unsigned int a = 0; a < 3; ++a)
     {
       const double first = static_cast<double>(brick.Origin[a]) * brickSide;
@@ -258,35 +263,26 @@ DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kern
       lower[a] = first - kernelReach;
       upper[a] = last + kernelReach;
     }
-    bool   visible = false;
     double columnMin = std::numeric_limits<double>::infinity(), columnMax = -columnMin;
     double rowMin = columnMin, rowMax = -columnMin;
-    for (unsigned int corner = 0; corner < 8 && !visible; ++corner)
+    for (unsigned int corner = 0; corner < 8; ++corner)
     {
       const double p[3] = { corner & 1u ? upper[0] : lower[0],
                             corner & 2u ? upper[1] : lower[1],
                             corner & 4u ? upper[2] : lower[2] };
       double column, row, depth;
       projection->ProjectToDetectorPlane(p, column, row, depth);
-      // A brick that reaches the source plane has no bounded image: keep it.
-      visible = projection->IsPerspective() && !(depth > 0.0);
+      if (projection->IsPerspective() && !(depth > 0.0))
+      {
+        return true; // a brick that reaches the source plane has no bounded image: keep it
+      }
       columnMin = std::min(columnMin, column);
       columnMax = std::max(columnMax, column);
       rowMin = std::min(rowMin, row);
       rowMax = std::max(rowMax, row);
     }
-    visible = visible || (columnMax >= columnLow && columnMin <= columnHigh && rowMax >= rowLow && rowMin <= rowHigh);
-    if (visible)
-    {
-      m_ViewBricks.push_back(static_cast<uint32_t>(b));
-      m_ViewPrefix.push_back(running);
-      running += brick.Mass;
-      m_ViewVoxels +=
-        (b + 1 < m_Bricks.size() ? m_Bricks[b + 1].FirstVoxel : m_NumberOfNonAirVoxels) - brick.FirstVoxel;
-    }
-  }
-  m_ViewPrefix.push_back(running);
-  m_SampledMass = running * m_VoxelVolume;
+    return columnMax >= columnLow && columnMin <= columnHigh && rowMax >= rowLow && rowMin <= rowHigh;
+  });
 }
 
 void
@@ -348,11 +344,11 @@ DRRStratifiedSampler::Locate(double target, Cursor & cursor) const
 inline void
 DRRStratifiedSampler::CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_t & j, uint32_t & k) const
 {
-  const Brick &  brick = m_Bricks[m_ViewBricks[cursor.Position[0]]];
-  const uint16_t offset = GetMortonInsideBrick().Offset[64 * cursor.Position[1] + LowestBit(cursor.Position[2])];
-  i = static_cast<uint32_t>(brick.Origin[0] * brickSide + (offset & 7u));
-  j = static_cast<uint32_t>(brick.Origin[1] * brickSide + ((offset >> 3) & 7u));
-  k = static_cast<uint32_t>(brick.Origin[2] * brickSide + (offset >> 6));
+  const auto v = VoxelInBrick(m_Bricks[m_ViewBricks[cursor.Position[0]]].Origin,
+                              64 * cursor.Position[1] + LowestBit(cursor.Position[2]));
+  i = v[0];
+  j = v[1];
+  k = v[2];
 }
 
 namespace
@@ -362,7 +358,7 @@ struct StratumStart
 {
   double   Offset;
   uint32_t Id;
-  uint64_t Shift[3];
+  uint64_t Shift[2];
 };
 
 /** The strata of a run, sorted by offset: in the merged walk, sample q of the run is point q / R of stratum
@@ -380,12 +376,10 @@ StartStrata(const DRRPointSampler::SampleRange & range)
     const DRRPhiloxRandom::BlockType u = offsetStream.Next();
     DRRPhiloxRandom                  shiftStream(range.Seed, id, 4);
     const DRRPhiloxRandom::BlockType a = shiftStream.Next();
-    const DRRPhiloxRandom::BlockType b = shiftStream.Next();
     strata[r].Offset = static_cast<double>((static_cast<uint64_t>(u[1]) << 21) ^ (u[0] >> 11)) * 0x1.0p-53;
     strata[r].Id = static_cast<uint32_t>(id);
     strata[r].Shift[0] = (uint64_t{ a[0] } << 32) | a[1];
     strata[r].Shift[1] = (uint64_t{ a[2] } << 32) | a[3];
-    strata[r].Shift[2] = (uint64_t{ b[0] } << 32) | b[1];
   }
   std::sort(strata.begin(), strata.end(), [](const StratumStart & x, const StratumStart & y) {
     return x.Offset < y.Offset || (x.Offset == y.Offset && x.Id < y.Id);
@@ -486,22 +480,18 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
     }
     return below;
   };
-  const double              inverseStep = 1.0 / step;
-  const uint64_t            endIndex = firstIndex + range.Count;
-  const MortonInsideBrick & morton = GetMortonInsideBrick();
-  const float *             mu = m_Mu.get();
-  uint64_t                  index = firstIndex;
+  const double   inverseStep = 1.0 / step;
+  const uint64_t endIndex = firstIndex + range.Count;
+  const float *  mu = m_Mu.get();
+  uint64_t       index = firstIndex;
   // The cursor (see Locate()) in locals: it changes at every voxel.
   uint64_t b = cursor.Position[0], group = cursor.Position[1], bits = cursor.Position[2], voxel = cursor.Position[3];
   double   groupStart = cursor.Mass[0], before = cursor.Mass[1];
   while (index < endIndex)
   {
-    const Brick &  brick = m_Bricks[m_ViewBricks[b]];
-    const double   base = m_ViewPrefix[b];
-    const bool     lastGroupOfView = b + 1 == m_ViewBricks.size() && group == brick.LastGroup;
-    const uint32_t corner[3] = { brick.Origin[0] * uint32_t{ brickSide },
-                                 brick.Origin[1] * uint32_t{ brickSide },
-                                 brick.Origin[2] * uint32_t{ brickSide } };
+    const Brick & brick = m_Bricks[m_ViewBricks[b]];
+    const double  base = m_ViewPrefix[b];
+    const bool    lastGroupOfView = b + 1 == m_ViewBricks.size() && group == brick.LastGroup;
     // The voxels left in the group; the last voxel of the view takes what rounding leaves.
     for (; bits; bits &= bits - 1, ++voxel)
     {
@@ -510,14 +500,12 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
       const uint64_t last = lastVoxel ? endIndex : std::min<uint64_t>(countBelow((base + end) * inverseStep), endIndex);
       if (last > index)
       {
-        const uint16_t offset = morton.Offset[64 * group + LowestBit(bits)];
-        const uint32_t i = corner[0] + (offset & 7u), j = corner[1] + ((offset >> 3) & 7u),
-                       k = corner[2] + (offset >> 6);
+        const auto v = VoxelInBrick(brick.Origin, 64 * group + LowestBit(bits));
         for (uint64_t s = index - firstIndex; s < last - firstIndex; ++s)
         {
-          batch.I[s] = i;
-          batch.J[s] = j;
-          batch.K[s] = k;
+          batch.I[s] = v[0];
+          batch.J[s] = v[1];
+          batch.K[s] = v[2];
         }
         index = last;
         if (index == endIndex)
