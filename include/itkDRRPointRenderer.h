@@ -18,6 +18,7 @@
 #ifndef itkDRRPointRenderer_h
 #define itkDRRPointRenderer_h
 
+#include "itkDRRPointCloud.h"
 #include "itkDRRPointProjection.h"
 #include "itkDRRPointSampler.h"
 #include "itkMultiThreaderBase.h"
@@ -88,6 +89,26 @@ public:
          const Settings &             settings,
          MultiThreaderBase *          threader,
          ProcessObject *              progressFilter);
+
+  /** Draws the points of a render of settings.NumberOfSamples points (seed, kernel and strata from the settings)
+   * over the whole volume (no culling: they serve every view) and keeps them, for Render(cloud, ...). */
+  static DRRPointCloud::Pointer
+  Draw(const DRRAttenuationVolume & volume,
+       DRRPointSampler &            sampler,
+       const Settings &             settings,
+       MultiThreaderBase *          threader,
+       ProcessObject *              progressFilter);
+
+  /** Renders the points of a cloud for a projection (built from the volume the cloud was drawn from, with any
+   * transform and geometry); only the splat and weighting of the settings are used. Cheaper than a render that
+   * draws: no sampling, the points are read from memory. The same cloud and projection give the same bits on any
+   * number of threads. */
+  static Result
+  Render(const DRRPointCloud & cloud,
+         DRRPointProjection    projection,
+         const Settings &      settings,
+         MultiThreaderBase *   threader,
+         ProcessObject *       progressFilter);
 
   /** Continuous-index box [lower, upper] that the kernel's points can reach. */
   static void

@@ -62,14 +62,13 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
 }
 
 template <typename TInputImage, typename TOutputImage>
-DRRPointRenderer::Result
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples, unsigned int pass)
+DRRPointRenderer::Settings
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t samples, unsigned int pass) const
 {
   if (samples == 0)
   {
     itkExceptionMacro("the number of samples must be at least 1");
   }
-  this->PrepareSampling();
   DRRPointRenderer::Settings settings;
   settings.NumberOfSamples = samples;
   // Pass 0 is keyed by the seed itself; later passes by a SplitMix64 mix of seed and pass, so streams never repeat.
@@ -86,9 +85,26 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   settings.Splat = m_Splat;
   settings.Weighting = m_PointWeighting;
   settings.NumberOfStrata = m_NumberOfStrata;
+  return settings;
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPointRenderer::Result
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples, unsigned int pass)
+{
+  const DRRPointRenderer::Settings settings = this->MakeSettings(samples, pass);
   this->UpdateProgress(0.0f);
-  const DRRPointRenderer::Result result = DRRPointRenderer::Render(
-    *this->GetAttenuationVolume(), *m_Sampler, this->MakeProjection(), settings, this->GetMultiThreader(), this);
+  DRRPointRenderer::Result result;
+  if (m_ReusePoints && pass == 0)
+  {
+    result = this->RenderKeptPoints();
+  }
+  else
+  {
+    this->PrepareSampling();
+    result = DRRPointRenderer::Render(
+      *this->GetAttenuationVolume(), *m_Sampler, this->MakeProjection(), settings, this->GetMultiThreader(), this);
+  }
   if (result.SourceNearVolume)
   {
     itkWarningMacro("the volume reaches within " << result.MinimumDepth
@@ -98,6 +114,33 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   }
   m_TotalMass = result.RoomMass;
   return result;
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPointRenderer::Result
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
+{
+  const DRRPointRenderer::Settings settings = this->MakeSettings(m_NumberOfSamples, 0);
+  this->PrepareSampling();
+  // Everything the points depend on; the pose (transform, geometry), the splat and the weighting are not in it.
+  const std::vector<ModifiedTimeType> key{ m_SamplerVolumeTime,
+                                           m_SamplerTime,
+                                           static_cast<ModifiedTimeType>(reinterpret_cast<uintptr_t>(m_SamplerVolume)),
+                                           static_cast<ModifiedTimeType>(
+                                             reinterpret_cast<uintptr_t>(m_Sampler.GetPointer())),
+                                           static_cast<ModifiedTimeType>(settings.NumberOfSamples),
+                                           static_cast<ModifiedTimeType>(settings.Seed),
+                                           static_cast<ModifiedTimeType>(settings.Kernel),
+                                           static_cast<ModifiedTimeType>(settings.NumberOfStrata) };
+  if (!m_PointCloud || key != m_PointCloudKey)
+  {
+    m_PointCloud = nullptr; // free the old points before drawing new ones
+    m_PointCloud =
+      DRRPointRenderer::Draw(*this->GetAttenuationVolume(), *m_Sampler, settings, this->GetMultiThreader(), this);
+    m_PointCloudKey = key;
+    ++m_NumberOfPointCloudDraws;
+  }
+  return DRRPointRenderer::Render(*m_PointCloud, this->MakeProjection(), settings, this->GetMultiThreader(), this);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -171,6 +214,17 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
   os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
   os << indent << "PointsOnDetector: " << m_PointsOnDetector << std::endl;
   os << indent << "TotalNumberOfSamples: " << m_TotalNumberOfSamples << std::endl;
+  os << indent << "ReusePoints: " << (m_ReusePoints ? "On" : "Off") << std::endl;
+  os << indent << "PointCloud: ";
+  if (m_PointCloud)
+  {
+    os << m_PointCloud->GetNumberOfPoints() << " points, " << m_PointCloud->GetBytesPerPoint() << " bytes per point"
+       << std::endl;
+  }
+  else
+  {
+    os << "(none)" << std::endl;
+  }
 }
 } // namespace itk
 

@@ -20,6 +20,7 @@
 #include "itkDRRBoxKernel.h"
 #include "itkDRRNearestSplat.h"
 #include "itkDRRTentKernel.h"
+#include "itkDRRPointCloud.h"
 #include "itkDRRWorkScheduler.h"
 
 #include <algorithm>
@@ -147,55 +148,27 @@ FixedPointExponent(double count, double bound)
   return static_cast<int>(std::floor(62.0 - std::log2(std::max(count * bound, 1e-300))));
 }
 
-/** Renders whole chunks; one instantiation per reconstruction kernel and splat, chosen once per render. */
-class ChunkRendererBase
+/** Draws the points of a chunk's samples, a batch at a time: voxel (sampler), stratum, and position inside the voxel
+ * (kernel), into the batch's continuous indices X, Y, Z and weights. One instantiation per reconstruction kernel. */
+template <typename TKernel>
+class PointDrawer
 {
 public:
-  virtual ~ChunkRendererBase() = default;
-  virtual void
-  Render(uint64_t chunk, const Strata & strata, Worker & worker) const = 0;
-};
-
-template <typename TKernel, typename TSplat>
-class ChunkRenderer : public ChunkRendererBase
-{
-public:
-  ChunkRenderer(const DRRAttenuationVolume &       volume,
-                const DRRPointSampler &            sampler,
-                const DRRPointProjection &         projection,
-                const DRRPointRenderer::Settings & settings,
-                double                             sumScale,
-                double                             squareScale,
-                bool                               smallFixedPoint)
-    : m_Sampler(sampler)
-    , m_Projection(projection)
-    , m_Settings(settings)
-    , m_NX(volume.GetSize()[0])
-    , m_NXY(volume.GetSize()[0] * volume.GetSize()[1])
-    , m_Columns(static_cast<int64_t>(projection.GetNumberOfColumns()))
-    , m_Rows(static_cast<int64_t>(projection.GetNumberOfRows()))
-    , m_SumScale(sumScale)
-    , m_SquareScale(squareScale)
-    , m_SmallFixedPoint(smallFixedPoint)
+  PointDrawer(const DRRAttenuationVolume & volume, const DRRPointSampler & sampler, uint64_t seed)
+    : m_Sampler(sampler), m_NX(volume.GetSize()[0]), m_NXY(volume.GetSize()[0] * volume.GetSize()[1]), m_Seed(seed)
   {}
 
-  void
-  Render(uint64_t chunk, const Strata & strata, Worker & worker) const override
-  {
-    this->RenderChunk(chunk, strata, worker);
-  }
-
-private:
-  PointBasedDRR_VECTOR_CLONES void
-  RenderChunk(uint64_t chunk, const Strata & strata, Worker & worker) const
+  /** Calls consume(first, count) after each batch of the chunk's samples is placed (first: its first sample). */
+  template <typename TConsume>
+  inline void
+  DrawChunk(uint64_t chunk, const Strata & strata, Batch & batch, TConsume && consume) const
   {
     const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
-    DRRPhiloxRandom samplerStream(m_Settings.Seed, chunk, 0);
-    DRRPhiloxRandom kernelStream(m_Settings.Seed, chunk, 1);
-    Batch &         batch = *worker.Scratch;
+    DRRPhiloxRandom samplerStream(m_Seed, chunk, 0);
+    DRRPhiloxRandom kernelStream(m_Seed, chunk, 1);
     DRRPointSampler::Cursor      cursor;
     DRRPointSampler::SampleRange range;
-    range.Seed = m_Settings.Seed;
+    range.Seed = m_Seed;
     range.NumberOfStrata = strata.IsInterleaved() ? strata.GetNumberOfStrata() : 1;
     for (range.First = chunk * DRRPointRenderer::SamplesPerChunk; range.First < end; range.First += range.Count)
     {
@@ -215,11 +188,11 @@ private:
         DrawJitter(kernelStream, range.Count, batch);
       }
       PlacePoints(range.Count, batch);
-      m_Projection.ProjectBatch(range.Count, batch.X, batch.Y, batch.Z, batch.Column, batch.Row, batch.Perspective);
-      this->Splat(range.Count, batch, strata.GetNumberOfStrata(), worker.Sums);
+      consume(range.First, range.Count);
     }
   }
 
+private:
   void
   DrawVoxels(DRRPhiloxRandom &                    stream,
              const DRRPointSampler::SampleRange & range,
@@ -270,19 +243,50 @@ private:
     }
   }
 
-  /** Adds every point to the fixed-point sums of its stratum (and to the sums of squares, with one stratum): first
-   * the pixel and fixed-point value of every corner (a loop that vectorizes), then the additions. */
-  void
-  Splat(uint64_t count, Batch & batch, uint64_t numberOfStrata, Accumulator & sums) const
+  const DRRPointSampler & m_Sampler;
+  const uint64_t          m_NX;
+  const uint64_t          m_NXY;
+  const uint64_t          m_Seed;
+};
+
+/** Fixed-point scales of a render (see FixedPointExponent()). */
+struct FixedPoint
+{
+  int  SumExponent{ 0 };
+  int  SquareExponent{ 0 };
+  bool Small{ false }; // every fixed-point value below 2^51: RoundSmall()
+};
+
+/** Projects placed points and adds them to the fixed-point sums. One instantiation per splat. */
+template <typename TSplat>
+class PointSplatter
+{
+public:
+  PointSplatter(const DRRPointProjection & projection, const FixedPoint & fixedPoint, bool unbiased)
+    : m_Projection(projection)
+    , m_Columns(static_cast<int32_t>(projection.GetNumberOfColumns()))
+    , m_Rows(static_cast<int32_t>(projection.GetNumberOfRows()))
+    , m_SumScale(std::ldexp(1.0, fixedPoint.SumExponent))
+    , m_SquareScale(std::ldexp(1.0, fixedPoint.SquareExponent))
+    , m_SmallFixedPoint(fixedPoint.Small)
+    , m_Unbiased(unbiased)
+  {}
+
+  /** Projects the batch's points and adds each to the fixed-point sums of its stratum (and to the sums of squares,
+   * with one stratum): first the pixel and fixed-point value of every corner (a loop that vectorizes), then the
+   * additions. */
+  inline void
+  ProjectAndSplat(uint64_t count, Batch & batch, uint64_t numberOfStrata, Accumulator & sums) const
   {
+    m_Projection.ProjectBatch(count, batch.X, batch.Y, batch.Z, batch.Column, batch.Row, batch.Perspective);
     constexpr unsigned int corners = TSplat::Corners;
     static_assert(corners <= maximumCorners, "Batch holds at most maximumCorners corners per point");
-    const bool    unbiased = m_Settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased;
+    const bool    unbiased = m_Unbiased;
     const bool    squares = !sums.SumOfSquares.empty();
     const double  sumScale = m_SumScale;
     const double  squareScale = m_SquareScale;
-    const int32_t columns = static_cast<int32_t>(m_Columns);
-    const int32_t rows = static_cast<int32_t>(m_Rows);
+    const int32_t columns = m_Columns;
+    const int32_t rows = m_Rows;
     const auto    round = m_SmallFixedPoint ? &RoundSmall : &RoundAny;
     for (uint64_t s = 0; s < count; ++s)
     {
@@ -323,6 +327,7 @@ private:
     sums.PointsOnDetector += landed;
   }
 
+private:
   /** llrint(x), for |x| < 2^51: adding 1.5 2^52 rounds to the nearest integer (ties to even, as llrint) in the low
    * mantissa bits; this form vectorizes. */
   static int64_t
@@ -339,17 +344,134 @@ private:
     return std::llrint(x);
   }
 
-  const DRRPointSampler &            m_Sampler;
-  const DRRPointProjection &         m_Projection;
-  const DRRPointRenderer::Settings & m_Settings;
-  const uint64_t                     m_NX;
-  const uint64_t                     m_NXY;
-  const int64_t                      m_Columns;
-  const int64_t                      m_Rows;
-  const double                       m_SumScale;
-  const double                       m_SquareScale;
-  const bool                         m_SmallFixedPoint; // every fixed-point value below 2^51: RoundSmall()
+  const DRRPointProjection & m_Projection;
+  const int32_t              m_Columns;
+  const int32_t              m_Rows;
+  const double               m_SumScale;
+  const double               m_SquareScale;
+  const bool                 m_SmallFixedPoint;
+  const bool                 m_Unbiased;
 };
+
+/** Does whole chunks of work; one instantiation per policy combination, chosen once per render or draw. */
+class ChunkWorkBase
+{
+public:
+  virtual ~ChunkWorkBase() = default;
+  virtual void
+  Run(uint64_t chunk, const Strata & strata, Worker & worker) const = 0;
+};
+
+/** A render that draws its points as it goes (nothing kept). */
+template <typename TKernel, typename TSplat>
+class DrawAndSplatChunks : public ChunkWorkBase
+{
+public:
+  DrawAndSplatChunks(const PointDrawer<TKernel> & drawer, const PointSplatter<TSplat> & splatter)
+    : m_Drawer(drawer), m_Splatter(splatter)
+  {}
+  void
+  Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
+  {
+    this->RunChunk(chunk, strata, worker);
+  }
+
+private:
+  PointBasedDRR_VECTOR_CLONES void
+  RunChunk(uint64_t chunk, const Strata & strata, Worker & worker) const
+  {
+    Batch & batch = *worker.Scratch;
+    m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t, uint64_t count) {
+      m_Splatter.ProjectAndSplat(count, batch, strata.GetNumberOfStrata(), worker.Sums);
+    });
+  }
+
+  const PointDrawer<TKernel> &  m_Drawer;
+  const PointSplatter<TSplat> & m_Splatter;
+};
+
+/** Draws points into a cloud (no sums). */
+template <typename TKernel>
+class DrawChunksIntoCloud : public ChunkWorkBase
+{
+public:
+  DrawChunksIntoCloud(const PointDrawer<TKernel> & drawer, DRRPointCloud & cloud) : m_Drawer(drawer), m_Cloud(cloud) {}
+  void
+  Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
+  {
+    Batch &   batch = *worker.Scratch;
+    float *   x = m_Cloud.GetX();
+    float *   y = m_Cloud.GetY();
+    float *   z = m_Cloud.GetZ();
+    float *   weights = m_Cloud.GetWeights();
+    uint8_t * stratum = m_Cloud.GetStrata();
+    m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t first, uint64_t count) {
+      for (uint64_t s = 0; s < count; ++s)
+      {
+        x[first + s] = static_cast<float>(batch.X[s]);
+        y[first + s] = static_cast<float>(batch.Y[s]);
+        z[first + s] = static_cast<float>(batch.Z[s]);
+      }
+      if (weights)
+      {
+        std::transform(batch.Weight, batch.Weight + count, weights + first, [](double w) { return float(w); });
+      }
+      if (stratum)
+      {
+        std::transform(batch.Stratum, batch.Stratum + count, stratum + first, [](uint32_t r) { return uint8_t(r); });
+      }
+    });
+  }
+
+private:
+  const PointDrawer<TKernel> & m_Drawer;
+  DRRPointCloud &              m_Cloud;
+};
+
+/** A render of the points of a cloud. */
+template <typename TSplat>
+class SplatCloudChunks : public ChunkWorkBase
+{
+public:
+  SplatCloudChunks(const DRRPointCloud & cloud, const PointSplatter<TSplat> & splatter)
+    : m_Cloud(cloud), m_Splatter(splatter)
+  {}
+  void
+  Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
+  {
+    this->RunChunk(chunk, strata, worker);
+  }
+
+private:
+  PointBasedDRR_VECTOR_CLONES void
+  RunChunk(uint64_t chunk, const Strata & strata, Worker & worker) const
+  {
+    Batch &         batch = *worker.Scratch;
+    const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
+    const float *   x = m_Cloud.GetX();
+    const float *   y = m_Cloud.GetY();
+    const float *   z = m_Cloud.GetZ();
+    const float *   weights = m_Cloud.GetWeights();
+    const uint8_t * stratum = m_Cloud.GetStrata();
+    for (uint64_t first = chunk * DRRPointRenderer::SamplesPerChunk; first < end; first += samplesPerBatch)
+    {
+      const uint64_t count = std::min(samplesPerBatch, end - first);
+      for (uint64_t s = 0; s < count; ++s)
+      {
+        batch.X[s] = x[first + s];
+        batch.Y[s] = y[first + s];
+        batch.Z[s] = z[first + s];
+        batch.Weight[s] = weights ? weights[first + s] : 1.0;
+        batch.Stratum[s] = stratum ? stratum[first + s] : 0u;
+      }
+      m_Splatter.ProjectAndSplat(count, batch, strata.GetNumberOfStrata(), worker.Sums);
+    }
+  }
+
+  const DRRPointCloud &         m_Cloud;
+  const PointSplatter<TSplat> & m_Splatter;
+};
+
 /** The registered splats: calls visit with a value of the splat policy's type. One case per splat. */
 template <typename TVisit>
 auto
@@ -381,74 +503,42 @@ WithKernel(PointBasedDRREnums::ReconstructionKernel kernel, TVisit && visit)
 }
 } // namespace
 
-void
-DRRPointRenderer::ComputeKernelSupport(const DRRAttenuationVolume & volume,
-                                       KernelEnum                   kernel,
-                                       std::array<double, 3> &      lower,
-                                       std::array<double, 3> &      upper)
+namespace
 {
-  const double reach = WithKernel(kernel, [](auto policy) { return decltype(policy)::Reach; });
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    lower[a] = -reach;
-    upper[a] = static_cast<double>(volume.GetSize()[a]) - 1.0 + reach;
-  }
-}
-
-DRRPointRenderer::Result
-DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
-                         DRRPointSampler &            sampler,
-                         DRRPointProjection           projection,
-                         const Settings &             settings,
-                         MultiThreaderBase *          threader,
-                         ProcessObject *              progressFilter)
+/** The strata a sampler's points form in a render of settings.NumberOfSamples points. */
+Strata
+MakeStrata(const DRRPointSampler & sampler, const DRRPointRenderer::Settings & settings)
 {
-  if (settings.NumberOfSamples == 0)
-  {
-    itkGenericExceptionMacro("DRRPointRenderer: the number of samples must be at least 1");
-  }
-  const size_t numberOfPixels =
-    static_cast<size_t>(projection.GetNumberOfColumns()) * static_cast<size_t>(projection.GetNumberOfRows());
-  Result result;
-  result.LineIntegral.assign(numberOfPixels, 0.0);
-  result.StandardError.assign(numberOfPixels, 0.0);
-  result.RoomMass = sampler.GetTotalMass() * projection.GetRoomMassScale();
-  if (!(result.RoomMass > 0.0))
-  {
-    return result; // all air: the exact answer is a zero image
-  }
-  // Sample only what can reach the detector (for samplers that cull).
-  const double kernelReach = WithKernel(settings.Kernel, [](auto policy) { return decltype(policy)::Reach; });
-  const double splatReach = WithSplat(settings.Splat, [](auto policy) { return decltype(policy)::Reach; });
-  sampler.SetView(&projection, kernelReach, splatReach);
-  result.SampledRoomMass = sampler.GetSampledMass() * projection.GetRoomMassScale();
-  if (!(result.SampledRoomMass > 0.0))
-  {
-    return result; // nothing in view: the exact answer is a zero image
-  }
-
   // Dependent points (stratified, Markov chains): independent strata, whose spread gives the standard error.
   const uint64_t requestedStrata =
     settings.NumberOfStrata > 0 ? settings.NumberOfStrata : sampler.GetPreferredNumberOfStrata();
   const bool useStrata =
     !sampler.HasIndependentSamples() && requestedStrata > 1 && settings.NumberOfSamples >= 16 * requestedStrata;
-  const Strata   strata(settings.NumberOfSamples, useStrata ? requestedStrata : 1, sampler.InterleavesStrata());
-  const uint64_t numberOfStrata = strata.GetNumberOfStrata();
+  return Strata(settings.NumberOfSamples, useStrata ? requestedStrata : 1, sampler.InterleavesStrata());
+}
 
-  // Bound the contributions so the fixed-point sums cannot overflow. In perspective, the weight grows as
-  // (SID / z)^2 near the source; if the volume comes that close, drop the points nearer than the depth that keeps
-  // at least 20 fractional bits (the dropped part of each ray is shorter than that depth).
-  const double N = static_cast<double>(strata.GetNumberOfSamples());
-  double       contributionBound = sampler.GetMaximumWeight();
-  if (projection.IsPerspective() && settings.Weighting == WeightingEnum::Unbiased)
+/** Bounds the contributions so that the fixed-point sums cannot overflow. In perspective, the weight grows as
+ * (SID / z)^2 near the source; if the points (inside the continuous-index box [lower, upper]) come that close, drops
+ * those nearer than the depth that keeps at least 20 fractional bits (the dropped part of each ray is shorter than
+ * that depth), through the projection's minimum depth, and says so in the result. */
+FixedPoint
+PlanFixedPoint(double                        numberOfSamples,
+               double                        maximumWeight,
+               const std::array<double, 3> & lower,
+               const std::array<double, 3> & upper,
+               bool                          unbiased,
+               DRRPointProjection &          projection,
+               DRRPointRenderer::Result &    result)
+{
+  const double N = numberOfSamples;
+  double       contributionBound = maximumWeight;
+  if (projection.IsPerspective() && unbiased)
   {
-    std::array<double, 3> lower, upper;
-    ComputeKernelSupport(volume, settings.Kernel, lower, upper);
     double nearest, farthest;
     projection.ComputeDepthRange(lower, upper, nearest, farthest);
     const double sid = projection.GetSourceToDetectorDistance();
     const double obliquity = projection.GetMaximumObliquity();
-    const double largestAffordableWeight = std::ldexp(1.0, 42) / (N * sampler.GetMaximumWeight());
+    const double largestAffordableWeight = std::ldexp(1.0, 42) / (N * maximumWeight);
     const double depthCut = sid * std::sqrt(obliquity / largestAffordableWeight);
     // Only a volume whose depth range reaches into (0, depthCut) comes near the source; one wholly behind it does not.
     result.SourceNearVolume = nearest < depthCut && farthest > 0.0;
@@ -457,25 +547,30 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
     result.MinimumDepth = result.SourceNearVolume ? depthCut : 0.0;
     contributionBound *= (sid / minimumDepth) * (sid / minimumDepth) * obliquity;
   }
-  const int    sumExponent = FixedPointExponent(N, contributionBound);
-  const int    squareExponent = FixedPointExponent(N, contributionBound * contributionBound);
-  const double sumScale = std::ldexp(1.0, sumExponent);
-  const double squareScale = std::ldexp(1.0, squareExponent);
+  FixedPoint fixedPoint;
+  fixedPoint.SumExponent = FixedPointExponent(N, contributionBound);
+  fixedPoint.SquareExponent = FixedPointExponent(N, contributionBound * contributionBound);
   // Each contribution is at most 2^62 / N in fixed point (both sums): below 2^51 from N = 2^11 on.
-  const bool                               smallFixedPoint = N >= 4096.0;
-  const std::unique_ptr<ChunkRendererBase> chunkRenderer = WithKernel(settings.Kernel, [&](auto kernel) {
-    return WithSplat(settings.Splat, [&](auto splat) -> std::unique_ptr<ChunkRendererBase> {
-      return std::make_unique<ChunkRenderer<decltype(kernel), decltype(splat)>>(
-        volume, sampler, projection, settings, sumScale, squareScale, smallFixedPoint);
-    });
-  });
+  fixedPoint.Small = N >= 4096.0;
+  return fixedPoint;
+}
 
-  const uint64_t      numberOfChunks = (strata.GetNumberOfSamples() + SamplesPerChunk - 1) / SamplesPerChunk;
+/** Runs work over every chunk of the strata's samples, with one worker (sums of numberOfPixels pixels, or none)
+ * per thread. */
+std::vector<Worker>
+RunChunks(const ChunkWorkBase & work,
+          const Strata &        strata,
+          size_t                numberOfPixels,
+          MultiThreaderBase *   threader,
+          ProcessObject *       progressFilter)
+{
+  const uint64_t numberOfChunks =
+    (strata.GetNumberOfSamples() + DRRPointRenderer::SamplesPerChunk - 1) / DRRPointRenderer::SamplesPerChunk;
   std::vector<Worker> workers(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
   for (Worker & worker : workers)
   {
-    worker.Sums.Sum.assign(numberOfPixels * numberOfStrata, 0);
-    if (numberOfStrata == 1)
+    worker.Sums.Sum.assign(numberOfPixels * strata.GetNumberOfStrata(), 0);
+    if (strata.GetNumberOfStrata() == 1)
     {
       worker.Sums.SumOfSquares.assign(numberOfPixels, 0);
     }
@@ -483,15 +578,27 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   DRRWorkScheduler::Run(
     threader,
     numberOfChunks,
-    [&](unsigned int worker, uint64_t chunk) { chunkRenderer->Render(chunk, strata, workers[worker]); },
+    [&](unsigned int worker, uint64_t chunk) { work.Run(chunk, strata, workers[worker]); },
     progressFilter);
+  return workers;
+}
 
-  // Integer reduction: exact, hence independent of the order and of the worker that held each chunk.
-  const double        valueScale = result.SampledRoomMass / (N * projection.GetPixelArea());
-  const double        inverseSumScale = std::ldexp(1.0, -sumExponent);
-  const double        inverseSquareScale = std::ldexp(1.0, -squareExponent);
+/** Integer reduction of the workers' sums into the line integrals and their standard errors: exact, hence
+ * independent of the order and of the worker that held each chunk. */
+void
+Reduce(const std::vector<Worker> & workers,
+       const Strata &              strata,
+       const FixedPoint &          fixedPoint,
+       double                      pixelArea,
+       DRRPointRenderer::Result &  result)
+{
+  const uint64_t      numberOfStrata = strata.GetNumberOfStrata();
+  const double        N = static_cast<double>(strata.GetNumberOfSamples());
+  const double        valueScale = result.SampledRoomMass / (N * pixelArea);
+  const double        inverseSumScale = std::ldexp(1.0, -fixedPoint.SumExponent);
+  const double        inverseSquareScale = std::ldexp(1.0, -fixedPoint.SquareExponent);
   std::vector<double> stratumSums(numberOfStrata);
-  for (size_t p = 0; p < numberOfPixels; ++p)
+  for (size_t p = 0; p < result.LineIntegral.size(); ++p)
   {
     double s = 0.0;
     for (uint64_t r = 0; r < numberOfStrata; ++r)
@@ -523,7 +630,7 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
       double squaredDeviations = 0.0;
       for (uint64_t r = 0; r < numberOfStrata; ++r)
       {
-        const double estimate = result.SampledRoomMass / (strata.Size(r) * projection.GetPixelArea()) * stratumSums[r];
+        const double estimate = result.SampledRoomMass / (strata.Size(r) * pixelArea) * stratumSums[r];
         squaredDeviations += (estimate - result.LineIntegral[p]) * (estimate - result.LineIntegral[p]);
       }
       result.StandardError[p] = std::sqrt(squaredDeviations / (numberOfStrata * (numberOfStrata - 1.0)));
@@ -535,6 +642,165 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   {
     result.PointsOnDetector += worker.Sums.PointsOnDetector;
   }
+}
+
+/** A result of zeros for the projection's detector. */
+DRRPointRenderer::Result
+ZeroResult(const DRRPointProjection & projection)
+{
+  const size_t numberOfPixels =
+    static_cast<size_t>(projection.GetNumberOfColumns()) * static_cast<size_t>(projection.GetNumberOfRows());
+  DRRPointRenderer::Result result;
+  result.LineIntegral.assign(numberOfPixels, 0.0);
+  result.StandardError.assign(numberOfPixels, 0.0);
+  return result;
+}
+
+double
+KernelReach(PointBasedDRREnums::ReconstructionKernel kernel)
+{
+  return WithKernel(kernel, [](auto policy) { return decltype(policy)::Reach; });
+}
+} // namespace
+
+void
+DRRPointRenderer::ComputeKernelSupport(const DRRAttenuationVolume & volume,
+                                       KernelEnum                   kernel,
+                                       std::array<double, 3> &      lower,
+                                       std::array<double, 3> &      upper)
+{
+  const double reach = KernelReach(kernel);
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    lower[a] = -reach;
+    upper[a] = static_cast<double>(volume.GetSize()[a]) - 1.0 + reach;
+  }
+}
+
+DRRPointRenderer::Result
+DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
+                         DRRPointSampler &            sampler,
+                         DRRPointProjection           projection,
+                         const Settings &             settings,
+                         MultiThreaderBase *          threader,
+                         ProcessObject *              progressFilter)
+{
+  if (settings.NumberOfSamples == 0)
+  {
+    itkGenericExceptionMacro("DRRPointRenderer: the number of samples must be at least 1");
+  }
+  Result result = ZeroResult(projection);
+  result.RoomMass = sampler.GetTotalMass() * projection.GetRoomMassScale();
+  if (!(result.RoomMass > 0.0))
+  {
+    return result; // all air: the exact answer is a zero image
+  }
+  // Sample only what can reach the detector (for samplers that cull).
+  const double splatReach = WithSplat(settings.Splat, [](auto policy) { return decltype(policy)::Reach; });
+  sampler.SetView(&projection, KernelReach(settings.Kernel), splatReach);
+  result.SampledRoomMass = sampler.GetSampledMass() * projection.GetRoomMassScale();
+  if (!(result.SampledRoomMass > 0.0))
+  {
+    return result; // nothing in view: the exact answer is a zero image
+  }
+
+  const Strata          strata = MakeStrata(sampler, settings);
+  std::array<double, 3> lower, upper;
+  ComputeKernelSupport(volume, settings.Kernel, lower, upper);
+  const FixedPoint          fixedPoint = PlanFixedPoint(static_cast<double>(strata.GetNumberOfSamples()),
+                                               sampler.GetMaximumWeight(),
+                                               lower,
+                                               upper,
+                                               settings.Weighting == WeightingEnum::Unbiased,
+                                               projection,
+                                               result);
+  const std::vector<Worker> workers = WithKernel(settings.Kernel, [&](auto kernel) {
+    return WithSplat(settings.Splat, [&](auto splat) {
+      const PointDrawer<decltype(kernel)>  drawer(volume, sampler, settings.Seed);
+      const PointSplatter<decltype(splat)> splatter(
+        projection, fixedPoint, settings.Weighting == WeightingEnum::Unbiased);
+      const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(drawer, splatter);
+      return RunChunks(work, strata, result.LineIntegral.size(), threader, progressFilter);
+    });
+  });
+  Reduce(workers, strata, fixedPoint, projection.GetPixelArea(), result);
+  return result;
+}
+
+DRRPointCloud::Pointer
+DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
+                       DRRPointSampler &            sampler,
+                       const Settings &             settings,
+                       MultiThreaderBase *          threader,
+                       ProcessObject *              progressFilter)
+{
+  if (settings.NumberOfSamples == 0)
+  {
+    itkGenericExceptionMacro("DRRPointRenderer: the number of samples must be at least 1");
+  }
+  sampler.SetView(nullptr, 0.0, 0.0); // every pose: the whole volume
+  const Strata               strata = MakeStrata(sampler, settings);
+  DRRPointCloud::Description description;
+  description.NumberOfRequestedSamples = settings.NumberOfSamples;
+  description.NumberOfStrata = strata.GetNumberOfStrata();
+  description.InterleavedStrata = strata.IsInterleaved();
+  description.SampledMass = sampler.GetSampledMass();
+  description.MaximumWeight = sampler.GetMaximumWeight();
+  description.Kernel = settings.Kernel;
+  ComputeKernelSupport(volume, settings.Kernel, description.SupportLower, description.SupportUpper);
+  description.VolumeSize = { volume.GetSize()[0], volume.GetSize()[1], volume.GetSize()[2] };
+  description.Seed = settings.Seed;
+  auto cloud = DRRPointCloud::New();
+  if (!(description.SampledMass > 0.0))
+  {
+    cloud->Allocate(0, false, false, description); // all air: no points, zero images
+    return cloud;
+  }
+  cloud->Allocate(
+    strata.GetNumberOfSamples(), sampler.GetMaximumWeight() != 1.0, strata.GetNumberOfStrata() > 1, description);
+  WithKernel(settings.Kernel, [&](auto kernel) {
+    const PointDrawer<decltype(kernel)>         drawer(volume, sampler, settings.Seed);
+    const DrawChunksIntoCloud<decltype(kernel)> work(drawer, *cloud);
+    RunChunks(work, strata, 0, threader, progressFilter);
+    return 0;
+  });
+  return cloud;
+}
+
+DRRPointRenderer::Result
+DRRPointRenderer::Render(const DRRPointCloud & cloud,
+                         DRRPointProjection    projection,
+                         const Settings &      settings,
+                         MultiThreaderBase *   threader,
+                         ProcessObject *       progressFilter)
+{
+  const DRRPointCloud::Description & description = cloud.GetDescription();
+  Result                             result = ZeroResult(projection);
+  result.RoomMass = description.SampledMass * projection.GetRoomMassScale();
+  result.SampledRoomMass = result.RoomMass;
+  if (!(result.RoomMass > 0.0) || cloud.GetNumberOfPoints() == 0)
+  {
+    return result; // all air: the exact answer is a zero image
+  }
+  const Strata strata(description.NumberOfRequestedSamples, description.NumberOfStrata, description.InterleavedStrata);
+  if (strata.GetNumberOfSamples() != cloud.GetNumberOfPoints())
+  {
+    itkGenericExceptionMacro("DRRPointRenderer: the point cloud's description does not match its points");
+  }
+  const bool                unbiased = settings.Weighting == WeightingEnum::Unbiased;
+  const FixedPoint          fixedPoint = PlanFixedPoint(static_cast<double>(strata.GetNumberOfSamples()),
+                                               description.MaximumWeight,
+                                               description.SupportLower,
+                                               description.SupportUpper,
+                                               unbiased,
+                                               projection,
+                                               result);
+  const std::vector<Worker> workers = WithSplat(settings.Splat, [&](auto splat) {
+    const PointSplatter<decltype(splat)>    splatter(projection, fixedPoint, unbiased);
+    const SplatCloudChunks<decltype(splat)> work(cloud, splatter);
+    return RunChunks(work, strata, result.LineIntegral.size(), threader, progressFilter);
+  });
+  Reduce(workers, strata, fixedPoint, projection.GetPixelArea(), result);
   return result;
 }
 } // namespace itk

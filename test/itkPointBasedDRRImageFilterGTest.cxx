@@ -89,14 +89,15 @@ struct Scenario
   bool           muInput;   // float input, mu per voxel continuous: binned levels with correction weights
   bool           transform; // an anisotropic affine transform between room and volume
   std::string    sampler{ "level-alias" };
-  uint64_t       refine{ 0 }; // points added by Refine() after Update()
+  uint64_t       refine{ 0 };    // points added by Refine() after Update()
+  bool           reuse{ false }; // kept points, drawn at another pose, re-projected
 };
 
 std::ostream &
 operator<<(std::ostream & os, const Scenario & s)
 {
-  return os << s.sampler << (s.refine ? "+refine" : "") << "/" << s.projection << "/" << s.kernel << "/" << s.splat
-            << (s.muInput ? "/mu-input" : "") << (s.transform ? "/affine" : "");
+  return os << s.sampler << (s.refine ? "+refine" : "") << (s.reuse ? "+reuse" : "") << "/" << s.projection << "/"
+            << s.kernel << "/" << s.splat << (s.muInput ? "/mu-input" : "") << (s.transform ? "/affine" : "");
 }
 
 itk::DRRProjectionGeometry::Pointer
@@ -260,9 +261,19 @@ RenderSeeds(const TVolume *              volume,
   stats.Variance.assign(pixels, 0.0);
   stats.PredictedVariance.assign(pixels, 0.0);
   std::vector<double> sumOfSquares(pixels, 0.0);
+  // With reuse, every seed's points are drawn at another pose (gantry 90 degrees away), then re-projected.
+  auto otherPose = MakeGeometry(scenario.projection, 8, 6, 7.0, 8.0);
+  otherPose->SetGantryAngleInDegrees(geometry->GetGantryAngleInDegrees() + 90.0);
+  drr->SetReusePoints(scenario.reuse);
   for (unsigned int seed = 0; seed < seeds; ++seed)
   {
     drr->SetSeed(1000 + seed);
+    if (scenario.reuse)
+    {
+      drr->SetGeometry(otherPose);
+      drr->Update();
+      drr->SetGeometry(geometry);
+    }
     drr->Update();
     if (scenario.refine > 0)
     {
@@ -401,6 +412,13 @@ AllScenarios()
     { ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false, "level-alias", 100000 });
   scenarios.push_back(
     { ProjectionEnum::Parallel, KernelEnum::Box, SplatEnum::Nearest, false, false, "stratified", 100000 });
+  // Kept points re-projected: independent points with weights (mu input), interleaved strata, contiguous strata.
+  scenarios.push_back(
+    { ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, true, true, "level-alias", 0, true });
+  scenarios.push_back(
+    { ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Nearest, false, true, "stratified", 0, true });
+  scenarios.push_back(
+    { ProjectionEnum::Parallel, KernelEnum::Tent, SplatEnum::Nearest, false, false, "metropolis", 0, true });
   return scenarios;
 }
 
@@ -914,6 +932,64 @@ TEST(PointBasedDRRStratified, SameSeedSameBitsOnOneTwoAndSevenThreads)
     }
     EXPECT_EQ(images[0], images[1]) << samples;
     EXPECT_EQ(images[0], images[2]) << samples;
+  }
+}
+
+/** Re-projecting kept points equals, bit for bit, a fresh filter drawing the same points at that pose (both
+ * outputs, any thread count), draws once across poses, and draws again when the seed changes. */
+TEST(PointBasedDRRReuse, CachedReprojectionEqualsAFreshRenderWithTheSameSeed)
+{
+  const auto volume = MakePhantom<MuVolumeType>(true); // mu input: weights are kept too
+  using FilterType = itk::PointBasedDRRImageFilter<MuVolumeType, ProjectionType>;
+  const auto render = [&](FilterType * drr, itk::DRRProjectionGeometry * geometry, const AffineType * transform) {
+    drr->SetGeometry(geometry);
+    drr->SetTransform(transform);
+    drr->Update();
+    auto       image = ToVector(drr->GetOutput());
+    const auto errors = ToVector(drr->GetStandardErrorOutput());
+    image.insert(image.end(), errors.begin(), errors.end());
+    return image;
+  };
+  for (const char * sampler : { "level-alias", "stratified", "metropolis" })
+  {
+    for (auto splat : { SplatEnum::Nearest, SplatEnum::Bilinear })
+    {
+      const auto make = [&](unsigned int threads) {
+        auto drr = FilterType::New();
+        drr->SetInput(volume);
+        drr->GetTransferFunction()->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+        drr->SetSampler(itk::DRRSamplerFactory::Create(sampler));
+        drr->SetSplat(splat);
+        drr->SetReconstructionKernel(KernelEnum::Tent);
+        drr->SetNumberOfSamples(300007); // several chunks, the last one partial
+        drr->SetSeed(11);
+        drr->SetReusePoints(true);
+        drr->GetMultiThreader()->SetMaximumNumberOfThreads(threads);
+        drr->SetNumberOfWorkUnits(threads);
+        return drr;
+      };
+      auto firstPose = MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0);
+      auto secondPose = MakeGeometry(ProjectionEnum::Perspective, 9, 7, 6.0, 6.5);
+      secondPose->SetGantryAngleInDegrees(75.0);
+      const auto transform = MakeAffine();
+
+      auto       kept = make(1);
+      const auto atFirst = render(kept, firstPose, nullptr);
+      const auto reprojected = render(kept, secondPose, transform);
+      EXPECT_EQ(kept->GetNumberOfPointCloudDraws(), 1u) << sampler << ": a pose change must not draw again";
+      ASSERT_NE(kept->GetPointCloud(), nullptr);
+      EXPECT_GE(kept->GetPointCloud()->GetNumberOfPoints(), 300007u); // R ceil(N / R) for interleaved strata
+      EXPECT_LE(kept->GetPointCloud()->GetBytesPerPoint(), 17.0);
+
+      auto fresh = make(3);
+      EXPECT_EQ(reprojected, render(fresh, secondPose, transform)) << sampler << "/" << splat;
+      EXPECT_NE(atFirst, reprojected);
+
+      kept->SetSeed(12);
+      const auto otherSeed = render(kept, secondPose, transform);
+      EXPECT_EQ(kept->GetNumberOfPointCloudDraws(), 2u) << sampler << ": a new seed must draw new points";
+      EXPECT_NE(otherSeed, reprojected);
+    }
   }
 }
 
