@@ -279,32 +279,19 @@ public:
   ProjectAndSplat(uint64_t count, Batch & batch, uint64_t numberOfStrata, Accumulator & sums) const
   {
     m_Projection.ProjectBatch(count, batch.X, batch.Y, batch.Z, batch.Column, batch.Row, batch.Perspective);
-    constexpr unsigned int corners = TSplat::Corners;
-    static_assert(corners <= maximumCorners, "Batch holds at most maximumCorners corners per point");
-    const bool    unbiased = m_Unbiased;
-    const bool    squares = !sums.SumOfSquares.empty();
-    const double  sumScale = m_SumScale;
-    const double  squareScale = m_SquareScale;
-    const int32_t columns = m_Columns;
-    const int32_t rows = m_Rows;
-    const auto    round = m_SmallFixedPoint ? &RoundSmall : &RoundAny;
-    for (uint64_t s = 0; s < count; ++s)
+    const bool squares = !sums.SumOfSquares.empty();
+    // One loop per case, each free of calls and branches, so that it vectorizes.
+    if (m_SmallFixedPoint)
     {
-      // A point that does not count has perspective weight 0 and lands off the detector.
-      const double weight = unbiased ? batch.Weight[s] * batch.Perspective[s] : batch.Weight[s];
-      int32_t      pixel[corners];
-      double       share[corners];
-      TSplat::Locate(batch.Column[s], batch.Row[s], columns, rows, pixel, share);
-      for (unsigned int c = 0; c < corners; ++c)
-      {
-        const double contribution = weight * share[c];
-        batch.Pixel[corners * s + c] = pixel[c];
-        batch.Value[corners * s + c] = round(contribution * sumScale);
-        batch.Square[corners * s + c] = squares ? round(contribution * contribution * squareScale) : 0;
-      }
+      squares ? this->PrepareCorners<true, true>(count, batch) : this->PrepareCorners<true, false>(count, batch);
     }
-    int64_t * sumOfSquares = sums.SumOfSquares.data();
-    uint64_t  landed = 0;
+    else
+    {
+      squares ? this->PrepareCorners<false, true>(count, batch) : this->PrepareCorners<false, false>(count, batch);
+    }
+    constexpr unsigned int corners = TSplat::Corners;
+    int64_t *              sumOfSquares = sums.SumOfSquares.data();
+    uint64_t               landed = 0;
     for (uint64_t s = 0; s < count; ++s)
     {
       int64_t * sum = sums.Sum.data() + (numberOfStrata > 1 ? batch.Stratum[s] : 0);
@@ -328,19 +315,48 @@ public:
   }
 
 private:
-  /** llrint(x), for |x| < 2^51: adding 1.5 2^52 rounds to the nearest integer (ties to even, as llrint) in the low
-   * mantissa bits; this form vectorizes. */
-  static int64_t
-  RoundSmall(double x)
+  /** The pixel and fixed-point value (and square) of every corner of every point. */
+  template <bool VSmall, bool VSquares>
+  inline void
+  PrepareCorners(uint64_t count, Batch & batch) const
   {
-    const double shifted = x + 6755399441055744.0;
-    int64_t      bits;
-    std::memcpy(&bits, &shifted, sizeof(bits));
-    return bits - 0x4338000000000000;
+    constexpr unsigned int corners = TSplat::Corners;
+    static_assert(corners <= maximumCorners, "Batch holds at most maximumCorners corners per point");
+    const bool    unbiased = m_Unbiased;
+    const double  sumScale = m_SumScale;
+    const double  squareScale = m_SquareScale;
+    const int32_t columns = m_Columns;
+    const int32_t rows = m_Rows;
+    for (uint64_t s = 0; s < count; ++s)
+    {
+      // A point that does not count has perspective weight 0 and lands off the detector.
+      const double weight = unbiased ? batch.Weight[s] * batch.Perspective[s] : batch.Weight[s];
+      int32_t      pixel[corners];
+      double       share[corners];
+      TSplat::Locate(batch.Column[s], batch.Row[s], columns, rows, pixel, share);
+      for (unsigned int c = 0; c < corners; ++c)
+      {
+        const double contribution = weight * share[c];
+        batch.Pixel[corners * s + c] = pixel[c];
+        batch.Value[corners * s + c] = Round<VSmall>(contribution * sumScale);
+        batch.Square[corners * s + c] = VSquares ? Round<VSmall>(contribution * contribution * squareScale) : 0;
+      }
+    }
   }
+
+  /** llrint(x). For |x| < 2^51 (VSmall): adding 1.5 2^52 rounds to the nearest integer (ties to even, as llrint) in
+   * the low mantissa bits; this form vectorizes. */
+  template <bool VSmall>
   static int64_t
-  RoundAny(double x)
+  Round(double x)
   {
+    if (VSmall)
+    {
+      const double shifted = x + 6755399441055744.0;
+      int64_t      bits;
+      std::memcpy(&bits, &shifted, sizeof(bits));
+      return bits - 0x4338000000000000;
+    }
     return std::llrint(x);
   }
 
@@ -456,13 +472,20 @@ private:
     for (uint64_t first = chunk * DRRPointRenderer::SamplesPerChunk; first < end; first += samplesPerBatch)
     {
       const uint64_t count = std::min(samplesPerBatch, end - first);
-      for (uint64_t s = 0; s < count; ++s)
+      std::copy(x + first, x + first + count, batch.X);
+      std::copy(y + first, y + first + count, batch.Y);
+      std::copy(z + first, z + first + count, batch.Z);
+      if (weights)
       {
-        batch.X[s] = x[first + s];
-        batch.Y[s] = y[first + s];
-        batch.Z[s] = z[first + s];
-        batch.Weight[s] = weights ? weights[first + s] : 1.0;
-        batch.Stratum[s] = stratum ? stratum[first + s] : 0u;
+        std::copy(weights + first, weights + first + count, batch.Weight);
+      }
+      else
+      {
+        std::fill(batch.Weight, batch.Weight + count, 1.0);
+      }
+      if (stratum)
+      {
+        std::copy(stratum + first, stratum + first + count, batch.Stratum);
       }
       m_Splatter.ProjectAndSplat(count, batch, strata.GetNumberOfStrata(), worker.Sums);
     }
