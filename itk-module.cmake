@@ -11,6 +11,8 @@ itk_module(PointBasedDRR
     ITKTestKernel
     ITKGoogleTest
     ITKImageGrid
+    ITKOptimizers
+    ITKRegistrationCommon
   DESCRIPTION
     "${DOCUMENTATION}"
   EXCLUDE_FROM_DEFAULT

@@ -75,7 +75,7 @@ public:
   itkTypeMacro(DRRAttenuationVolume, Object);
 
   /** Builds the volume from input values (size[0] x size[1] x size[2], x fastest) through a transfer function, on
-   * the threads of threader (null: ITK's default threader). Integer values spanning less than 65536 (in volumes of
+   * the threads of threader (null: platform threads of its own). Integer values spanning less than 65536 (in volumes of
    * fewer than 2^32 - 128 voxels) give levels, anything else mu per voxel. Throws, naming the first offending voxel in
    * memory order, for a non-finite value or a negative or non-finite attenuation. Defined in
    * itkDRRAttenuationVolume.hxx, for every pixel type. */
@@ -165,7 +165,8 @@ public:
   ComputeNumberOfBlocks(uint64_t numberOfVoxels);
 
   /** Calls function(block) once for every block in [0, numberOfBlocks), blocks handed out dynamically to the threads
-   * of threader (null: ITK's default threader). Results that depend on the block alone are thread-independent. */
+   * of threader (null: platform threads of its own, never a pool the caller may be running on). Results that depend on
+   * the block alone are thread-independent. */
   static void
   ParallelizeBlocks(uint64_t numberOfBlocks, const BlockFunctionType & function, MultiThreaderBase * threader);
 

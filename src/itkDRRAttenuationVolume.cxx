@@ -61,7 +61,9 @@ DRRAttenuationVolume::ParallelizeBlocks(uint64_t                  numberOfBlocks
   MultiThreaderBase::Pointer ownThreader;
   if (threader == nullptr)
   {
-    ownThreader = MultiThreaderBase::New();
+    // Platform threads of its own: a caller may itself run on a pool thread (a DRR interpolator answering a metric's
+    // worker), where waiting for pool tasks queued behind the callers could deadlock.
+    ownThreader = PlatformMultiThreader::New();
     threader = ownThreader.GetPointer();
   }
   // One task per worker, blocks handed out one at a time: a worker slowed down by other work takes fewer blocks.
@@ -120,9 +122,7 @@ DRRAttenuationVolume::MaterializeMu() const
   // Each block first zeroes a run of voxels that fits the cache, then writes the voxels of every level in it,
   // advancing one cursor per level through the level's increasing voxel list.
   constexpr uint64_t run = uint64_t{ 1 } << 18;
-  // Platform threads: the first call may come from inside a pool thread (an exact projector's ray), where waiting
-  // for pool tasks could deadlock.
-  auto threader = PlatformMultiThreader::New();
+  // Platform threads (see ParallelizeBlocks()): the first call may come from inside a pool thread.
   ParallelizeBlocks(
     this->GetNumberOfBlocks(),
     [&](uint64_t b) {
@@ -160,7 +160,7 @@ DRRAttenuationVolume::MaterializeMu() const
         }
       }
     },
-    threader.GetPointer());
+    nullptr);
   m_Mu.reset(mu);
   m_MuReady.store(true, std::memory_order_release);
   return mu;

@@ -1,0 +1,527 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// Rigid 2D-3D registration of a CT to one or two X-ray projections with ITK's classic registration components, the
+// DRRs cast by ITK's ray caster or rendered by PointBasedDRR: the two differ by one type (see Register()).
+//
+// Why the classic framework: ITK's DRR interpolator, itk::RayCastInterpolateImageFunction, is an
+// InterpolateImageFunction evaluated by a classic ImageToImageMetric, one ray per fixed-image pixel, and it has no
+// derivative; the ITKv4 metrics need the moving image's gradient. So: a MeanSquaresImageToImageMetric per view (fixed
+// image: the projection as a one-slice 3D image placed on the detector plane; moving image: the CT in mu; the
+// interpolator: the DRR), their sum as the cost, Powell's derivative-free optimizer over the 6 parameters of an
+// Euler3DTransform centred on the volume. MeanSquares (not NormalizedCorrelation) because it is multi-threaded in
+// ITK's classic framework, which keeps the ray caster's timing fair, and the synthetic target has the DRRs' units.
+//
+//   Register2D3D CT|--phantom [--drr pbdrr|raycast] [--views 1|2] [--size 128] [--pixel-mm MM] [--samples 2e6]
+//                [--start tx,ty,tz,rx,ry,rz | --random-start SEED] [--max-translation 10] [--max-rotation 5]
+//                [--max-tre MM] [--iterations 6] [--threads N]
+//                [--fixed AP.mha --focal x,y,z [--fixed LAT.mha --focal x,y,z]]
+//
+// CT: a DICOM series directory or a volume ITK reads (HU); --phantom: a coarse built-in CT. The CT is converted to
+// linear attenuation mu (1/mm, water at 60 keV), which both DRR methods integrate along their rays (threshold 0).
+// Synthetic X-ray mode (the default): the target projections are rendered at the true pose (the identity: the CT
+// where it lies) by the exact projector (ExactDRRImageFilter, trilinear model, 2 x 2 rays per pixel), AP and lateral,
+// SAD 1000 mm, SID 1500 mm; the registration starts at the given or random offset (translation up to
+// --max-translation mm, rotation up to --max-rotation degrees about a random axis) and its error is known. With
+// --fixed, real projections (line integrals, one-slice 3D images placed in the room) and their focal points are used
+// and the result is printed without an error.
+//
+// Prints one line `result key=value ...`: the start and final mean target registration error (mTRE, mm; over 27
+// points on a grid spanning the central 80% of the CT), success (final mTRE < 2 mm), the number of cost evaluations
+// and of DRRs rendered, and the wall time. With --max-tre, exits non-zero if the final mTRE exceeds it.
+#include "itkPointBasedDRRInterpolateImageFunction.h"
+#include "itkExactDRRImageFilter.h"
+
+#include "itkEuler3DTransform.h"
+#include "itkGDCMImageIO.h"
+#include "itkGDCMSeriesFileNames.h"
+#include "itkImageFileReader.h"
+#include "itkImageSeriesReader.h"
+#include "itkMeanSquaresImageToImageMetric.h"
+#include "itkPowellOptimizer.h"
+#include "itkRayCastInterpolateImageFunction.h"
+#include "itkSingleValuedCostFunction.h"
+#include "itksys/SystemTools.hxx"
+
+#include <chrono>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+using CTType = itk::Image<float, 3>;         // HU as read
+using MuImageType = itk::Image<float, 3>;    // mu, 1/mm
+using ProjectionType = itk::Image<float, 3>; // one slice on the detector plane, line integrals
+using TransformType = itk::Euler3DTransform<double>;
+using MetricType = itk::MeanSquaresImageToImageMetric<ProjectionType, MuImageType>;
+
+struct View
+{
+  ProjectionType::Pointer Image;
+  itk::Point<double, 3>   FocalPoint;
+};
+
+struct Options
+{
+  std::string              Input;
+  bool                     Phantom{ false };
+  std::string              Drr{ "pbdrr" };
+  unsigned                 Views{ 2 }, Size{ 128 }, Iterations{ 6 }, Threads{ 0 };
+  double                   PixelMillimetres{ 0.0 }, Samples{ 2e6 }, MaxTranslation{ 10.0 }, MaxRotation{ 5.0 };
+  double                   MaxTre{ -1.0 };
+  std::vector<double>      Start;
+  long                     RandomStart{ -1 };
+  std::vector<std::string> Fixed;
+  std::vector<std::string> Focal;
+};
+
+std::vector<double>
+ParseList(const std::string & text, size_t count, const std::string & what)
+{
+  std::vector<double> values;
+  std::stringstream   in(text);
+  for (std::string item; std::getline(in, item, ',');)
+  {
+    values.push_back(std::stod(item));
+  }
+  if (values.size() != count)
+  {
+    throw std::runtime_error(what + " needs " + std::to_string(count) + " comma-separated numbers: " + text);
+  }
+  return values;
+}
+
+Options
+ParseOptions(int argc, char * argv[])
+{
+  Options options;
+  for (int a = 1; a < argc; ++a)
+  {
+    const std::string arg = argv[a];
+    const auto        value = [&]() -> std::string {
+      if (a + 1 >= argc)
+      {
+        throw std::runtime_error(arg + " needs a value");
+      }
+      return argv[++a];
+    };
+    if (arg == "--phantom")
+      options.Phantom = true;
+    else if (arg == "--drr")
+      options.Drr = value();
+    else if (arg == "--views")
+      options.Views = static_cast<unsigned>(std::stoul(value()));
+    else if (arg == "--size")
+      options.Size = static_cast<unsigned>(std::stoul(value()));
+    else if (arg == "--pixel-mm")
+      options.PixelMillimetres = std::stod(value());
+    else if (arg == "--samples")
+      options.Samples = std::stod(value());
+    else if (arg == "--start")
+      options.Start = ParseList(value(), 6, "--start");
+    else if (arg == "--random-start")
+      options.RandomStart = std::stol(value());
+    else if (arg == "--max-translation")
+      options.MaxTranslation = std::stod(value());
+    else if (arg == "--max-rotation")
+      options.MaxRotation = std::stod(value());
+    else if (arg == "--max-tre")
+      options.MaxTre = std::stod(value());
+    else if (arg == "--iterations")
+      options.Iterations = static_cast<unsigned>(std::stoul(value()));
+    else if (arg == "--threads")
+      options.Threads = static_cast<unsigned>(std::stoul(value()));
+    else if (arg == "--fixed")
+      options.Fixed.push_back(value());
+    else if (arg == "--focal")
+      options.Focal.push_back(value());
+    else if (!arg.empty() && arg[0] == '-')
+      throw std::runtime_error("unknown option " + arg);
+    else
+      options.Input = arg;
+  }
+  if (options.Input.empty() == !options.Phantom)
+    throw std::runtime_error("give a CT (DICOM directory or volume) or --phantom");
+  if (options.Drr != "pbdrr" && options.Drr != "raycast")
+    throw std::runtime_error("--drr is pbdrr or raycast, not " + options.Drr);
+  if (options.Views < 1 || options.Views > 2)
+    throw std::runtime_error("--views is 1 or 2");
+  if (options.Fixed.size() != options.Focal.size())
+    throw std::runtime_error("give one --focal per --fixed image");
+  if (!(options.Samples >= 1.0) || options.Size < 8)
+    throw std::runtime_error("--samples must be at least 1 and --size at least 8");
+  return options;
+}
+
+/** A DICOM series directory (its first series) or any volume ITK reads. */
+CTType::Pointer
+ReadCT(const std::string & input)
+{
+  if (!itksys::SystemTools::FileIsDirectory(input))
+  {
+    return itk::ReadImage<CTType>(input);
+  }
+  auto names = itk::GDCMSeriesFileNames::New();
+  names->SetUseSeriesDetails(true);
+  names->SetDirectory(input);
+  const auto & series = names->GetSeriesUIDs();
+  if (series.empty())
+  {
+    throw std::runtime_error("no DICOM series in " + input);
+  }
+  auto reader = itk::ImageSeriesReader<CTType>::New();
+  reader->SetImageIO(itk::GDCMImageIO::New());
+  reader->SetFileNames(names->GetFileNames(series.front()));
+  reader->Update();
+  return reader->GetOutput();
+}
+
+/** A coarse CT of a torso (HU): a water ellipse cylinder with an off-centre spine, a rib block on one side and a dense
+ * marker, in air; asymmetric so that every rotation shows. 48 x 40 x 36 voxels of 5 mm. */
+CTType::Pointer
+MakePhantom()
+{
+  auto                ct = CTType::New();
+  CTType::SizeType    size{ { 48, 40, 36 } };
+  CTType::SpacingType spacing(5.0);
+  CTType::PointType   origin;
+  for (unsigned a = 0; a < 3; ++a)
+    origin[a] = -0.5 * (size[a] - 1) * spacing[a];
+  ct->SetRegions(size);
+  ct->SetSpacing(spacing);
+  ct->SetOrigin(origin);
+  ct->Allocate();
+  for (itk::ImageRegionIteratorWithIndex<CTType> it(ct, ct->GetLargestPossibleRegion()); !it.IsAtEnd(); ++it)
+  {
+    CTType::PointType p;
+    ct->TransformIndexToPhysicalPoint(it.GetIndex(), p);
+    const double x = p[0], y = p[1], z = p[2];
+    float        hu = -1000.0f;
+    if ((x / 100) * (x / 100) + (y / 80) * (y / 80) < 1.0 && std::abs(z) < 80)
+      hu = 20.0f;
+    if ((x - 5) * (x - 5) + (y - 45) * (y - 45) < 14 * 14 && std::abs(z) < 75)
+      hu = 700.0f; // spine, posterior
+    if (x > 40 && x < 75 && y > -40 && y < 20 && z > -30 && z < 50)
+      hu = 400.0f; // rib block, one side
+    if ((x + 50) * (x + 50) + (y + 30) * (y + 30) + (z - 40) * (z - 40) < 12 * 12)
+      hu = 1500.0f; // marker
+    it.Set(hu);
+  }
+  return ct;
+}
+
+/** mu (1/mm) of water at 60 keV times (1 + HU / 1000), zero below -1000 HU: PointBasedDRR's natural transfer. */
+MuImageType::Pointer
+ToMu(const CTType * ct)
+{
+  auto transfer = itk::DRRTransferFunction::New();
+  auto mu = MuImageType::New();
+  mu->CopyInformation(ct);
+  mu->SetRegions(ct->GetLargestPossibleRegion());
+  mu->Allocate();
+  const float * in = ct->GetBufferPointer();
+  float *       out = mu->GetBufferPointer();
+  for (size_t v = 0; v < ct->GetBufferedRegion().GetNumberOfPixels(); ++v)
+    out[v] = static_cast<float>(transfer->Evaluate(in[v]));
+  return mu;
+}
+
+itk::Point<double, 3>
+Centre(const itk::ImageBase<3> * image)
+{
+  itk::ContinuousIndex<double, 3> index;
+  for (unsigned a = 0; a < 3; ++a)
+    index[a] =
+      image->GetLargestPossibleRegion().GetIndex()[a] + (image->GetLargestPossibleRegion().GetSize()[a] - 1) / 2.0;
+  itk::Point<double, 3> centre;
+  image->TransformContinuousIndexToPhysicalPoint(index, centre);
+  return centre;
+}
+
+/** Synthetic X-rays: AP (gantry 90) and lateral (gantry 0) exact projections of the CT at the true pose. */
+std::vector<View>
+RenderTargets(const MuImageType * mu, const Options & options)
+{
+  const auto size = mu->GetLargestPossibleRegion().GetSize();
+  double     extent = 0.0;
+  for (unsigned a = 0; a < 3; ++a)
+    extent = std::max(extent, size[a] * mu->GetSpacing()[a]);
+  const double      pixel = options.PixelMillimetres > 0 ? options.PixelMillimetres : 1.5 * 1.1 * extent / options.Size;
+  std::vector<View> views;
+  for (unsigned v = 0; v < options.Views; ++v)
+  {
+    auto exact = itk::ExactDRRImageFilter<MuImageType, ProjectionType>::New();
+    exact->SetInput(mu);
+    exact->GetTransferFunction()->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+    exact->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Tent);
+    exact->SetRaysPerPixelSide(2);
+    auto geometry = exact->GetGeometry();
+    geometry->SetGantryAngleInDegrees(v == 0 ? 90.0 : 0.0);
+    geometry->SetSourceToIsocenterDistance(1000.0);
+    geometry->SetSourceToDetectorDistance(1500.0);
+    geometry->SetIsocenter(Centre(mu));
+    geometry->SetDetectorSize({ { options.Size, options.Size } });
+    geometry->SetDetectorSpacing(itk::Vector<double, 2>(pixel));
+    exact->Update();
+    View view;
+    view.Image = exact->GetOutput();
+    view.FocalPoint = geometry->GetSourcePosition();
+    views.push_back(view);
+  }
+  return views;
+}
+
+std::vector<View>
+ReadTargets(const Options & options)
+{
+  std::vector<View> views;
+  for (size_t v = 0; v < options.Fixed.size(); ++v)
+  {
+    View view;
+    view.Image = itk::ReadImage<ProjectionType>(options.Fixed[v]);
+    const auto focal = ParseList(options.Focal[v], 3, "--focal");
+    for (unsigned r = 0; r < 3; ++r)
+      view.FocalPoint[r] = focal[r];
+    views.push_back(view);
+  }
+  return views;
+}
+
+/** The sum of the views' metrics, counting evaluations. */
+class MultiViewCost : public itk::SingleValuedCostFunction
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(MultiViewCost);
+  using Self = MultiViewCost;
+  using Superclass = itk::SingleValuedCostFunction;
+  using Pointer = itk::SmartPointer<Self>;
+  itkNewMacro(Self);
+
+  std::vector<MetricType::Pointer> Metrics;
+  mutable unsigned                 Evaluations{ 0 };
+
+  MeasureType
+  GetValue(const ParametersType & parameters) const override
+  {
+    ++Evaluations;
+    MeasureType sum = 0.0;
+    for (const auto & metric : Metrics)
+      sum += metric->GetValue(parameters);
+    return sum;
+  }
+  void
+  GetDerivative(const ParametersType &, DerivativeType &) const override
+  {
+    itkExceptionMacro("no derivative: use a derivative-free optimizer");
+  }
+  unsigned
+  GetNumberOfParameters() const override
+  {
+    return 6;
+  }
+
+protected:
+  MultiViewCost() = default;
+};
+
+/** Mean distance (mm) between where two poses put 27 points spanning the central 80% of the CT. */
+double
+MeanTargetError(const MuImageType * mu, const TransformType * pose, const TransformType * truth)
+{
+  const auto size = mu->GetLargestPossibleRegion().GetSize();
+  double     sum = 0.0;
+  for (int i = 0; i < 27; ++i)
+  {
+    itk::ContinuousIndex<double, 3> index;
+    for (unsigned a = 0; a < 3; ++a)
+    {
+      const int step = (a == 0 ? i : a == 1 ? i / 3 : i / 9) % 3;
+      index[a] = (size[a] - 1) * (0.1 + 0.4 * step);
+    }
+    itk::Point<double, 3> p;
+    mu->TransformContinuousIndexToPhysicalPoint(index, p);
+    sum += (pose->TransformPoint(p) - truth->TransformPoint(p)).GetNorm();
+  }
+  return sum / 27.0;
+}
+
+/** The start: the given offset, or a random translation (uniform direction, length up to the maximum) and rotation
+ * (uniform axis, angle up to the maximum). */
+TransformType::Pointer
+StartPose(const Options & options, const itk::Point<double, 3> & centre)
+{
+  auto start = TransformType::New();
+  start->SetCenter(centre);
+  TransformType::ParametersType parameters(6);
+  parameters.Fill(0.0);
+  if (!options.Start.empty())
+  {
+    for (unsigned k = 0; k < 6; ++k)
+      parameters[k] = k < 3 ? options.Start[k + 3] * M_PI / 180.0 : options.Start[k - 3];
+    start->SetParameters(parameters);
+    return start;
+  }
+  if (options.RandomStart >= 0)
+  {
+    std::mt19937                           random(static_cast<unsigned>(options.RandomStart) * 7919u + 17u);
+    std::normal_distribution<double>       normal;
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    itk::Vector<double, 3>                 axis, shift;
+    for (unsigned r = 0; r < 3; ++r)
+    {
+      axis[r] = normal(random);
+      shift[r] = normal(random);
+    }
+    axis.Normalize();
+    shift.Normalize();
+    shift *= options.MaxTranslation * uniform(random);
+    const double        angle = options.MaxRotation * uniform(random) * M_PI / 180.0;
+    itk::Versor<double> versor;
+    versor.Set(axis, angle);
+    start->SetMatrix(versor.GetMatrix());
+    start->SetTranslation(shift);
+  }
+  return start;
+}
+
+struct Result
+{
+  double                        StartTre{ 0 }, FinalTre{ 0 }, Seconds{ 0 };
+  unsigned                      Evaluations{ 0 }, Drrs{ 0 };
+  TransformType::ParametersType Final;
+};
+
+/** The registration, for either interpolator: the same code but for the interpolator's type. */
+template <typename TInterpolator>
+Result
+Register(const MuImageType * mu, const std::vector<View> & views, const Options & options)
+{
+  const auto truth = TransformType::New();
+  truth->SetCenter(Centre(mu));
+  const auto start = StartPose(options, Centre(mu));
+  auto       transform = TransformType::New();
+  transform->SetCenter(Centre(mu));
+  transform->SetParameters(start->GetParameters());
+
+  auto                                         cost = MultiViewCost::New();
+  std::vector<typename TInterpolator::Pointer> interpolators;
+  for (const View & view : views)
+  {
+    auto interpolator = TInterpolator::New();
+    interpolator->SetTransform(transform);
+    interpolator->SetFocalPoint(view.FocalPoint);
+    interpolator->SetThreshold(0.0);
+    if constexpr (std::is_same<TInterpolator, itk::PointBasedDRRInterpolateImageFunction<MuImageType, double>>::value)
+    {
+      // Optional: render on the fixed image's own pixel grid (without it, an automatic virtual detector).
+      interpolator->SetDetectorFromImage(view.Image);
+      interpolator->GetDRRFilter()->SetNumberOfSamples(static_cast<uint64_t>(options.Samples));
+    }
+    auto metric = MetricType::New();
+    metric->SetFixedImage(view.Image);
+    metric->SetFixedImageRegion(view.Image->GetBufferedRegion());
+    metric->SetMovingImage(mu);
+    metric->SetTransform(transform);
+    metric->SetInterpolator(interpolator);
+    metric->UseAllPixelsOn();
+    metric->Initialize();
+    cost->Metrics.push_back(metric);
+    interpolators.push_back(interpolator);
+  }
+
+  auto optimizer = itk::PowellOptimizer::New();
+  optimizer->SetCostFunction(cost);
+  optimizer->SetInitialPosition(transform->GetParameters());
+  itk::PowellOptimizer::ScalesType scales(6);
+  for (unsigned k = 0; k < 6; ++k)
+    scales[k] = k < 3 ? 180.0 / M_PI : 1.0; // one optimizer unit: one degree or one millimetre
+  optimizer->SetScales(scales);
+  optimizer->SetStepLength(2.0);
+  optimizer->SetStepTolerance(0.02);
+  optimizer->SetValueTolerance(1e-12);
+  optimizer->SetMaximumIteration(options.Iterations);
+  optimizer->SetMaximumLineIteration(12);
+
+  Result     result;
+  const auto begin = std::chrono::steady_clock::now();
+  result.StartTre = MeanTargetError(mu, transform, truth);
+  optimizer->StartOptimization();
+  result.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  result.Final = optimizer->GetCurrentPosition();
+  transform->SetParameters(result.Final);
+  result.FinalTre = MeanTargetError(mu, transform, truth);
+  result.Evaluations = cost->Evaluations;
+  result.Drrs = cost->Evaluations * static_cast<unsigned>(views.size());
+  if constexpr (std::is_same<TInterpolator, itk::PointBasedDRRInterpolateImageFunction<MuImageType, double>>::value)
+  {
+    result.Drrs = 0;
+    for (const auto & interpolator : interpolators)
+      result.Drrs += static_cast<unsigned>(interpolator->GetNumberOfRenders());
+  }
+  return result;
+}
+} // namespace
+
+int
+main(int argc, char * argv[])
+{
+  try
+  {
+    const Options options = ParseOptions(argc, argv);
+    if (options.Threads > 0)
+    {
+      itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.Threads);
+      itk::MultiThreaderBase::SetGlobalMaximumNumberOfThreads(options.Threads);
+    }
+    const auto ct = options.Phantom ? MakePhantom() : ReadCT(options.Input);
+    const auto mu = ToMu(ct);
+    const bool synthetic = options.Fixed.empty();
+    const auto views = synthetic ? RenderTargets(mu, options) : ReadTargets(options);
+    // The one-type difference:
+    const Result result =
+      options.Drr == "pbdrr"
+        ? Register<itk::PointBasedDRRInterpolateImageFunction<MuImageType, double>>(mu, views, options)
+        : Register<itk::RayCastInterpolateImageFunction<MuImageType, double>>(mu, views, options);
+    std::cout << "result drr=" << options.Drr << " views=" << views.size() << " size=" << options.Size;
+    if (options.Drr == "pbdrr")
+      std::cout << " samples=" << static_cast<uint64_t>(options.Samples);
+    std::cout << " seed=" << options.RandomStart << " evaluations=" << result.Evaluations << " drrs=" << result.Drrs
+              << " seconds=" << result.Seconds << " drrs_per_second=" << result.Drrs / result.Seconds;
+    if (synthetic)
+      std::cout << " start_tre_mm=" << result.StartTre << " final_tre_mm=" << result.FinalTre
+                << " success=" << (result.FinalTre < 2.0 ? 1 : 0);
+    std::cout << " parameters_deg_mm=";
+    for (unsigned k = 0; k < 6; ++k)
+      std::cout << (k ? "," : "") << (k < 3 ? result.Final[k] * 180.0 / M_PI : result.Final[k]);
+    std::cout << std::endl;
+    if (synthetic && options.MaxTre >= 0.0 && !(result.FinalTre <= options.MaxTre))
+    {
+      std::cerr << "Register2D3D: final mTRE " << result.FinalTre << " mm exceeds --max-tre " << options.MaxTre << " mm"
+                << std::endl;
+      return EXIT_FAILURE;
+    }
+  }
+  catch (const std::exception & error)
+  {
+    std::cerr << "Register2D3D: " << error.what() << std::endl;
+    return EXIT_FAILURE;
+  }
+  return EXIT_SUCCESS;
+}
