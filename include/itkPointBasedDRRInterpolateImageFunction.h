@@ -148,9 +148,23 @@ public:
     return m_Filter.GetPointer();
   }
 
+  /** Shares a filter (and so its attenuation volume, sampling tables and kept points) with other interpolators of
+   * the same volume: the views of a multi-view registration draw their points once. Renders of interpolators are
+   * serialized. */
+  void
+  SetDRRFilter(FilterType * filter);
+
   /** The projection of the current pose (renders it if needed). */
   const ProjectionImageType *
   GetProjection() const;
+
+  /** Read-only access to the projection values of the last render (columns fastest). */
+  const std::vector<float> &
+  GetProjectionValues() const
+  {
+    this->UpdateProjection();
+    return m_Values;
+  }
 
   /** Number of projections rendered so far. */
   uint64_t
@@ -220,9 +234,11 @@ private:
 
   typename FilterType::Pointer           m_Filter;
   mutable typename GeometryType::Pointer m_Geometry;
-  mutable std::mutex                     m_Mutex;
-  mutable std::atomic<ModifiedTimeType>  m_RenderedTime{ 0 };
-  mutable uint64_t                       m_NumberOfRenders{ 0 };
+  /** One lock for the renders of every interpolator: they may share a filter. */
+  static std::mutex &
+                                        GetRenderMutex();
+  mutable std::atomic<ModifiedTimeType> m_RenderedTime{ 0 };
+  mutable uint64_t                      m_NumberOfRenders{ 0 };
   // What Evaluate() needs, set by Render(): CT -> room (the inverse of the transform's affine map), the detector.
   mutable Matrix<double, 3, 3> m_VolumeToRoomMatrix;
   mutable Vector<double, 3>    m_VolumeToRoomOffset;
@@ -231,7 +247,7 @@ private:
   mutable Point<double, 3>     m_Pixel00;
   mutable double               m_SourceToDetectorDistance{ 0.0 };
   mutable int                  m_Columns{ 0 }, m_Rows{ 0 };
-  mutable const float *        m_Values{ nullptr };
+  mutable std::vector<float>   m_Values; // the projection, a copy (the filter may be shared)
 };
 } // namespace itk
 

@@ -47,8 +47,34 @@ void
 PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetInputImage(const InputImageType * image)
 {
   Superclass::SetInputImage(image);
+  const std::lock_guard<std::mutex> lock(GetRenderMutex());
   m_Filter->SetInput(image);
   this->Modified();
+}
+
+template <typename TInputImage, typename TCoordRep>
+void
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetDRRFilter(FilterType * filter)
+{
+  if (!filter)
+  {
+    itkExceptionMacro("SetDRRFilter: null filter");
+  }
+  const std::lock_guard<std::mutex> lock(GetRenderMutex());
+  m_Filter = filter;
+  if (this->GetInputImage())
+  {
+    m_Filter->SetInput(this->GetInputImage());
+  }
+  this->Modified();
+}
+
+template <typename TInputImage, typename TCoordRep>
+std::mutex &
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetRenderMutex()
+{
+  static std::mutex mutex;
+  return mutex;
 }
 
 template <typename TInputImage, typename TCoordRep>
@@ -150,7 +176,7 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::UpdateProjection(
   {
     return;
   }
-  const std::lock_guard<std::mutex> lock(m_Mutex);
+  const std::lock_guard<std::mutex> lock(GetRenderMutex());
   if (wanted == m_RenderedTime.load(std::memory_order_relaxed))
   {
     return; // another thread rendered it while this one waited
@@ -265,7 +291,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::Render() const
   m_SourceToDetectorDistance = m_Geometry->GetSourceToDetectorDistance();
   m_Columns = static_cast<int>(m_Geometry->GetDetectorSize()[0]);
   m_Rows = static_cast<int>(m_Geometry->GetDetectorSize()[1]);
-  m_Values = m_Filter->GetOutput()->GetBufferPointer();
+  const ProjectionImageType * projection = m_Filter->GetOutput();
+  m_Values.assign(projection->GetBufferPointer(),
+                  projection->GetBufferPointer() + projection->GetBufferedRegion().GetNumberOfPixels());
 }
 
 template <typename TInputImage, typename TCoordRep>
@@ -343,6 +371,13 @@ auto
 PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetProjection() const -> const ProjectionImageType *
 {
   this->UpdateProjection();
+  const std::lock_guard<std::mutex> lock(GetRenderMutex());
+  if (m_Filter->GetGeometry() != m_Geometry.GetPointer())
+  {
+    // A shared filter last rendered another interpolator's view: render this one's again.
+    m_Filter->SetGeometry(m_Geometry);
+    m_Filter->Update();
+  }
   return m_Filter->GetOutput();
 }
 

@@ -142,6 +142,23 @@ TEST(PointBasedDRRInterpolator, AnswersWithTheFilterPixelsAndRendersOncePerPose)
   EXPECT_GT(peak, 0.5); // the phantom's shadow is on the detector
   EXPECT_EQ(interpolator->GetNumberOfRenders(), 2u);
   EXPECT_EQ(interpolator->GetDRRFilter()->GetNumberOfPointCloudDraws(), 1u) << "poses re-project the kept points";
+
+  // A second view sharing the filter: its own detector, the same points; the first view's answers are unchanged.
+  auto lateral = InterpolatorType::New();
+  lateral->SetInputImage(volume);
+  lateral->SetTransform(transform);
+  auto lateralGeometry = MakeDetector(centre);
+  lateralGeometry->SetGantryAngleInDegrees(160.0);
+  InterpolatorType::InputPointType lateralFocalPoint = lateralGeometry->GetSourcePosition();
+  lateral->SetFocalPoint(lateralFocalPoint);
+  lateral->SetDetectorGeometry(lateralGeometry);
+  lateral->SetDRRFilter(interpolator->GetDRRFilter());
+  EXPECT_GT(lateral->Evaluate(transform->TransformPoint(lateralGeometry->GetPixelCenter(12, 10))), 0.5);
+  const auto pixel = geometry->GetPixelCenter(12, 10);
+  EXPECT_NEAR(interpolator->Evaluate(transform->TransformPoint(pixel)),
+              expected[10 * 24 + 12],
+              1e-6 * (1.0 + expected[10 * 24 + 12]));
+  EXPECT_EQ(interpolator->GetDRRFilter()->GetNumberOfPointCloudDraws(), 1u) << "the views share their points";
 }
 
 /** ITK's DRR pipeline (a multi-threaded ResampleImageFilter writing a one-slice image on the detector plane) runs with
