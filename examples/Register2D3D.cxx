@@ -52,6 +52,7 @@
 #include "itkImageFileReader.h"
 #include "itkImageSeriesReader.h"
 #include "itkMeanSquaresImageToImageMetric.h"
+#include "itkOrientImageFilter.h"
 #include "itkPowellOptimizer.h"
 #include "itkRayCastInterpolateImageFunction.h"
 #include "itkSingleValuedCostFunction.h"
@@ -192,6 +193,30 @@ ReadCT(const std::string & input)
   reader->SetFileNames(names->GetFileNames(series.front()));
   reader->Update();
   return reader->GetOutput();
+}
+
+/** The same voxels at the same places with an identity direction matrix (axes permuted and flipped): ITK's ray caster
+ * ignores the direction. */
+CTType::Pointer
+WithIdentityDirection(CTType * ct)
+{
+  CTType::DirectionType identity;
+  identity.SetIdentity();
+  if (ct->GetDirection() == identity)
+  {
+    return ct;
+  }
+  auto orient = itk::OrientImageFilter<CTType, CTType>::New();
+  orient->SetInput(ct);
+  orient->UseImageDirectionOn();
+  orient->SetDesiredCoordinateDirection(identity);
+  orient->Update();
+  CTType::Pointer oriented = orient->GetOutput();
+  if (!(oriented->GetDirection() == identity))
+  {
+    throw std::runtime_error("the CT's direction is not a permutation of the axes: ITK's ray caster cannot take it");
+  }
+  return oriented;
 }
 
 /** A coarse CT of a torso (HU): a water ellipse cylinder with an off-centre spine, a rib block on one side and a dense
@@ -404,7 +429,7 @@ StartPose(const Options & options, const itk::Point<double, 3> & centre)
 
 struct Result
 {
-  double                        StartTre{ 0 }, FinalTre{ 0 }, Seconds{ 0 };
+  double                        StartTre{ 0 }, FinalTre{ 0 }, Seconds{ 0 }, CpuSeconds{ 0 };
   unsigned                      Evaluations{ 0 }, Drrs{ 0 };
   TransformType::ParametersType Final;
 };
@@ -501,7 +526,7 @@ main(int argc, char * argv[])
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.Threads);
       itk::MultiThreaderBase::SetGlobalMaximumNumberOfThreads(options.Threads);
     }
-    const auto ct = options.Phantom ? MakePhantom() : ReadCT(options.Input);
+    const auto ct = options.Phantom ? MakePhantom() : WithIdentityDirection(ReadCT(options.Input));
     const auto mu = ToMu(ct);
     const bool synthetic = options.Fixed.empty();
     const auto views = synthetic ? RenderTargets(mu, options) : ReadTargets(options);
