@@ -18,6 +18,7 @@
 #ifndef itkDRRBilinearSplat_h
 #define itkDRRBilinearSplat_h
 
+#include <algorithm>
 #include <cstdint>
 
 namespace itk
@@ -34,27 +35,30 @@ struct DRRBilinearSplat
   static constexpr double       Reach = 1.0;
   static constexpr unsigned int Corners = 4;
 
+  /** TReal: double (the render that draws), or float (the render of a kept cloud, twice the lanes). */
+  template <typename TReal>
   static void
-  Locate(double column, double row, int32_t columns, int32_t rows, int32_t pixel[Corners], double share[Corners])
+  Locate(TReal column, TReal row, int32_t columns, int32_t rows, int32_t pixel[Corners], TReal share[Corners])
   {
-    // Shift by one pixel so that truncation is the floor wherever a corner can land (column > -1).
-    const double  c = column + 1.0;
-    const double  r = row + 1.0;
-    const bool    near = (c > 0.0) & (c < columns + 1.0) & (r > 0.0) & (r < rows + 1.0);
-    const double  cs = near ? c : 0.0;
-    const double  rs = near ? r : 0.0;
+    // Shift by one pixel so that truncation is the floor wherever a corner can land (column > -1). Clamped to
+    // [0, columns + 1] (NaN to 0) rather than tested: a point in range keeps its value; a point out of range in
+    // either axis gets, in that axis, either the first corner at -1 and the second with weight 0, or both corners
+    // past the last pixel, so none of its corners lands. No select on a point-wide test: the vectorizer keeps the
+    // loop in lanes of one width.
+    const TReal   cs = std::min(TReal(columns + 1), std::max(TReal(0), column + TReal(1)));
+    const TReal   rs = std::min(TReal(rows + 1), std::max(TReal(0), row + TReal(1)));
     const int32_t c0 = static_cast<int32_t>(cs) - 1;
     const int32_t r0 = static_cast<int32_t>(rs) - 1;
-    const double  fc = cs - (c0 + 1.0);
-    const double  fr = rs - (r0 + 1.0);
-    const double  weights[4] = { (1.0 - fc) * (1.0 - fr), fc * (1.0 - fr), (1.0 - fc) * fr, fc * fr };
+    const TReal   fc = cs - TReal(c0 + 1);
+    const TReal   fr = rs - TReal(r0 + 1);
+    const TReal weights[4] = { (TReal(1) - fc) * (TReal(1) - fr), fc * (TReal(1) - fr), (TReal(1) - fc) * fr, fc * fr };
     for (unsigned int corner = 0; corner < 4; ++corner)
     {
       const int32_t pc = c0 + static_cast<int32_t>(corner & 1u);
       const int32_t pr = r0 + static_cast<int32_t>(corner >> 1);
-      const bool    inside = near & (pc >= 0) & (pr >= 0) & (pc < columns) & (pr < rows) & (weights[corner] > 0.0);
+      const bool    inside = (pc >= 0) & (pr >= 0) & (pc < columns) & (pr < rows) & (weights[corner] > TReal(0));
       pixel[corner] = inside ? pc + columns * pr : -1;
-      share[corner] = inside ? weights[corner] : 0.0;
+      share[corner] = inside ? weights[corner] : TReal(0);
     }
   }
 };

@@ -38,15 +38,18 @@ struct DRRNearestSplat
   static constexpr double       Reach = 0.5;
   static constexpr unsigned int Corners = 1;
 
+  /** TReal: double (the render that draws), or float (the render of a kept cloud, twice the lanes). */
+  template <typename TReal>
   static void
-  Locate(double column, double row, int32_t columns, int32_t rows, int32_t pixel[Corners], double share[Corners])
+  Locate(TReal column, TReal row, int32_t columns, int32_t rows, int32_t pixel[Corners], TReal share[Corners])
   {
-    const double c = column + 0.5;
-    const double r = row + 0.5;
-    const bool   inside = (c >= 0.0) & (c < columns) & (r >= 0.0) & (r < rows);
+    const TReal c = column + TReal(0.5);
+    const TReal r = row + TReal(0.5);
+    const bool  inside = (c >= TReal(0)) & (c < TReal(columns)) & (r >= TReal(0)) & (r < TReal(rows));
     // Truncation is the floor on the detector; off it, convert a harmless 0 instead (no undefined conversion).
-    pixel[0] = inside ? static_cast<int32_t>(inside ? c : 0.0) + columns * static_cast<int32_t>(inside ? r : 0.0) : -1;
-    share[0] = inside ? 1.0 : 0.0;
+    pixel[0] =
+      inside ? static_cast<int32_t>(inside ? c : TReal(0)) + columns * static_cast<int32_t>(inside ? r : TReal(0)) : -1;
+    share[0] = inside ? TReal(1) : TReal(0);
   }
 };
 } // namespace itk
