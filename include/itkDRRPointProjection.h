@@ -111,6 +111,59 @@ public:
     }
   }
 
+  /** ProjectBatch() in single precision, for the render of a kept cloud (whose points are floats already): twice the
+   * lanes, and single-precision division and square root are several times cheaper than double. The column is off by
+   * at most about 1e-5 pixels and the weight by a relative 1e-7: far below the Monte Carlo noise. Only correctly
+   * rounded operations, so every instruction set gives the same bits. */
+  void
+  ProjectBatch(size_t              n,
+               const float * const x,
+               const float * const y,
+               const float * const z,
+               float * __restrict__ column,
+               float * __restrict__ row,
+               float * __restrict__ weight) const
+  {
+    const float pu0 = static_cast<float>(m_PU0), gu0 = static_cast<float>(m_GU[0]), gu1 = static_cast<float>(m_GU[1]),
+                gu2 = static_cast<float>(m_GU[2]);
+    const float pv0 = static_cast<float>(m_PV0), gv0 = static_cast<float>(m_GV[0]), gv1 = static_cast<float>(m_GV[1]),
+                gv2 = static_cast<float>(m_GV[2]);
+    const float z0 = static_cast<float>(m_Z0), gz0 = static_cast<float>(m_GZ[0]), gz1 = static_cast<float>(m_GZ[1]),
+                gz2 = static_cast<float>(m_GZ[2]);
+    const float columnShift = static_cast<float>(m_ColumnShift), rowShift = static_cast<float>(m_RowShift);
+    if (!m_Perspective)
+    {
+      const float inverseDU = static_cast<float>(m_InverseDU), inverseDV = static_cast<float>(m_InverseDV);
+      for (size_t i = 0; i < n; ++i)
+      {
+        column[i] = (pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i]) * inverseDU + columnShift;
+        row[i] = (pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i]) * inverseDV + rowShift;
+        weight[i] = 1.0f;
+      }
+      return;
+    }
+    const float sid = static_cast<float>(m_SID), sidOverDU = static_cast<float>(m_SIDOverDU),
+                sidOverDV = static_cast<float>(m_SIDOverDV);
+    // Rounded up, so that no point nearer than the minimum depth counts: its weight would exceed the bound the
+    // fixed-point scale was chosen for.
+    float minimumDepth = static_cast<float>(m_MinimumDepth);
+    minimumDepth = minimumDepth < m_MinimumDepth ? std::nextafter(minimumDepth, HUGE_VALF) : minimumDepth;
+    for (size_t i = 0; i < n; ++i)
+    {
+      const float pu = pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i];
+      const float pv = pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i];
+      const float depth = z0 + gz0 * x[i] + gz1 * y[i] + gz2 * z[i];
+      const bool  counts = (depth >= minimumDepth) & (depth <= sid);
+      const float inverseZ = 1.0f / depth;
+      const float tu = pu * inverseZ;
+      const float tv = pv * inverseZ;
+      const float magnification = sid * inverseZ;
+      column[i] = counts ? tu * sidOverDU + columnShift : -4.0f;
+      row[i] = tv * sidOverDV + rowShift;
+      weight[i] = counts ? magnification * magnification * std::sqrt(1.0f + tu * tu + tv * tv) : 0.0f;
+    }
+  }
+
   /** Where a point falls on the detector plane (continuous pixel indices) and its depth (mm from the source along the
    * normal; parallel: from the source plane), with no depth limit. Perspective columns and rows mean nothing for
    * depth <= 0. */

@@ -69,11 +69,24 @@ struct Batch
   int64_t  Square[maximumCorners * samplesPerBatch];
 };
 
-/** What one worker owns: its sums and its batch (allocated once per render, not per chunk). */
+/** One batch of the render of a kept cloud, in single precision (see DRRPointProjection::ProjectBatch()). Corner
+ * major (corner c of point s at c * samplesPerBatch + s), so that every store of the preparation loop is contiguous. */
+struct CloudBatch
+{
+  float   Column[samplesPerBatch], Row[samplesPerBatch], Perspective[samplesPerBatch];
+  int32_t Index[maximumCorners * samplesPerBatch]; // into the sums: pixel * strata + stratum, or the trash slot
+  int64_t Value[maximumCorners * samplesPerBatch]; // fixed point
+  int64_t Square[maximumCorners * samplesPerBatch];
+  int32_t Stratum[samplesPerBatch];
+};
+
+/** What one worker owns: its sums and its batch (allocated once per render, not per chunk; only the kind of batch
+ * its render uses). */
 struct Worker
 {
-  Accumulator            Sums;
-  std::unique_ptr<Batch> Scratch{ new Batch };
+  Accumulator                 Sums;
+  std::unique_ptr<Batch>      Scratch;
+  std::unique_ptr<CloudBatch> CloudScratch;
 };
 
 /** The strata of a render. Contiguous: R runs of consecutive samples, of N / R samples each (up to one).
@@ -314,7 +327,125 @@ public:
     sums.PointsOnDetector += landed;
   }
 
+  /** ProjectAndSplat() for the points of a kept cloud (count of them from x, y, z, weight, stratum), in single
+   * precision up to the fixed-point values (see DRRPointProjection::ProjectBatch()). A corner off the detector goes
+   * to the trash slot past the pixels' sums (with value 0): the additions need no branch. */
+  inline void
+  ProjectAndSplatCloud(uint64_t        count,
+                       const float *   x,
+                       const float *   y,
+                       const float *   z,
+                       const float *   weight,
+                       const uint8_t * stratum,
+                       CloudBatch &    batch,
+                       uint64_t        numberOfStrata,
+                       Accumulator &   sums) const
+  {
+    m_Projection.ProjectBatch(count, x, y, z, batch.Column, batch.Row, batch.Perspective);
+    const bool squares = !sums.SumOfSquares.empty();
+    const auto strata = static_cast<int32_t>(numberOfStrata);
+    uint64_t   landed;
+    if (m_SmallFixedPoint)
+    {
+      landed = squares ? this->PrepareCloudCorners<true, true>(count, weight, stratum, strata, batch)
+                       : this->PrepareCloudCorners<true, false>(count, weight, stratum, strata, batch);
+    }
+    else
+    {
+      landed = squares ? this->PrepareCloudCorners<false, true>(count, weight, stratum, strata, batch)
+                       : this->PrepareCloudCorners<false, false>(count, weight, stratum, strata, batch);
+    }
+    sums.PointsOnDetector += landed;
+    int64_t * sum = sums.Sum.data();
+    for (unsigned int c = 0; c < TSplat::Corners; ++c)
+    {
+      const int32_t * index = batch.Index + c * samplesPerBatch;
+      const int64_t * value = batch.Value + c * samplesPerBatch;
+      for (uint64_t s = 0; s < count; ++s)
+      {
+        sum[index[s]] += value[s];
+      }
+    }
+    if (squares)
+    {
+      // One stratum: the index of a sum is its pixel's.
+      int64_t * sumOfSquares = sums.SumOfSquares.data();
+      for (unsigned int c = 0; c < TSplat::Corners; ++c)
+      {
+        const int32_t * index = batch.Index + c * samplesPerBatch;
+        const int64_t * square = batch.Square + c * samplesPerBatch;
+        for (uint64_t s = 0; s < count; ++s)
+        {
+          sumOfSquares[index[s]] += square[s];
+        }
+      }
+    }
+  }
+
 private:
+  /** The sum index and fixed-point value (and square) of every corner of every point of a cloud batch; returns the
+   * number of points that reach the detector. The contribution is rounded to float, then scaled exactly (the scales
+   * are powers of two) and rounded to fixed point in double; its square is exact in double. */
+  template <bool VSmall, bool VSquares>
+  inline uint64_t
+  PrepareCloudCorners(uint64_t        count,
+                      const float *   pointWeight,
+                      const uint8_t * stratum,
+                      int32_t         strata,
+                      CloudBatch &    batch) const
+  {
+    constexpr unsigned int corners = TSplat::Corners;
+    static_assert(corners <= maximumCorners, "CloudBatch holds at most maximumCorners corners per point");
+    const bool    unbiased = m_Unbiased;
+    const double  sumScale = m_SumScale;
+    const double  squareScale = m_SquareScale;
+    const int32_t columns = m_Columns;
+    const int32_t rows = m_Rows;
+    const int32_t trash = columns * rows * strata;
+    // Widened in a loop of its own: bytes in the loop below keep it from vectorizing for AVX-512F (no byte vectors).
+    for (uint64_t s = 0; s < count; ++s)
+    {
+      batch.Stratum[s] = stratum[s];
+    }
+    // Without the perspective weight, a factor 1 (exact): a select on unbiased in the loop below would not vectorize.
+    if (!unbiased)
+    {
+      std::fill(batch.Perspective, batch.Perspective + count, 1.0f);
+    }
+    for (uint64_t s = 0; s < count; ++s)
+    {
+      // A point that does not count lands off the detector (and has perspective weight 0). Every load unconditional,
+      // so that the selects need no branch.
+      const float   ownWeight = pointWeight[s];
+      const float   perspective = batch.Perspective[s];
+      const float   weight = ownWeight * perspective;
+      const int32_t ownStratum = batch.Stratum[s];
+      int32_t       pixel[corners];
+      float         share[corners];
+      TSplat::Locate(batch.Column[s], batch.Row[s], columns, rows, pixel, share);
+      for (unsigned int c = 0; c < corners; ++c)
+      {
+        const double contribution = static_cast<double>(weight * share[c]);
+        batch.Index[c * samplesPerBatch + s] = pixel[c] >= 0 ? pixel[c] * strata + ownStratum : trash;
+        batch.Value[c * samplesPerBatch + s] = Round<VSmall>(contribution * sumScale);
+        batch.Square[c * samplesPerBatch + s] = VSquares ? Round<VSmall>(contribution * contribution * squareScale) : 0;
+      }
+    }
+    // Counted in a loop of its own, from the indices: in the loop above, the count (or a test of the pixels) would
+    // stop it from vectorizing.
+    int32_t landed = 0;
+    for (uint64_t s = 0; s < count; ++s)
+    {
+      int32_t reached = 0;
+      for (unsigned int c = 0; c < corners; ++c)
+      {
+        reached |= static_cast<int32_t>(batch.Index[c * samplesPerBatch + s] != trash);
+      }
+      landed += reached;
+    }
+    return static_cast<uint64_t>(landed);
+  }
+
   /** The pixel and fixed-point value (and square) of every corner of every point. */
   template <bool VSmall, bool VSquares>
   inline void
@@ -396,6 +527,10 @@ private:
   PointBasedDRR_VECTOR_CLONES void
   RunChunk(uint64_t chunk, const Strata & strata, Worker & worker) const
   {
+    if (!worker.Scratch)
+    {
+      worker.Scratch.reset(new Batch);
+    }
     Batch & batch = *worker.Scratch;
     m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t, uint64_t count) {
       m_Splatter.ProjectAndSplat(count, batch, strata.GetNumberOfStrata(), worker.Sums);
@@ -415,6 +550,10 @@ public:
   void
   Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
   {
+    if (!worker.Scratch)
+    {
+      worker.Scratch.reset(new Batch);
+    }
     Batch &   batch = *worker.Scratch;
     float *   x = m_Cloud.GetX();
     float *   y = m_Cloud.GetY();
@@ -462,32 +601,29 @@ private:
   PointBasedDRR_VECTOR_CLONES void
   RunChunk(uint64_t chunk, const Strata & strata, Worker & worker) const
   {
-    Batch &         batch = *worker.Scratch;
+    if (!worker.CloudScratch)
+    {
+      worker.CloudScratch.reset(new CloudBatch);
+    }
+    CloudBatch &    batch = *worker.CloudScratch;
     const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
-    const float *   x = m_Cloud.GetX();
-    const float *   y = m_Cloud.GetY();
-    const float *   z = m_Cloud.GetZ();
     const float *   weights = m_Cloud.GetWeights();
     const uint8_t * stratum = m_Cloud.GetStrata();
+    // Absent weights and strata read as a batch of ones and of zeros: one loop for every cloud.
+    static const std::vector<float>   ones(samplesPerBatch, 1.0f);
+    static const std::vector<uint8_t> zeros(samplesPerBatch, 0);
     for (uint64_t first = chunk * DRRPointRenderer::SamplesPerChunk; first < end; first += samplesPerBatch)
     {
       const uint64_t count = std::min(samplesPerBatch, end - first);
-      std::copy(x + first, x + first + count, batch.X);
-      std::copy(y + first, y + first + count, batch.Y);
-      std::copy(z + first, z + first + count, batch.Z);
-      if (weights)
-      {
-        std::copy(weights + first, weights + first + count, batch.Weight);
-      }
-      else
-      {
-        std::fill(batch.Weight, batch.Weight + count, 1.0);
-      }
-      if (stratum)
-      {
-        std::copy(stratum + first, stratum + first + count, batch.Stratum);
-      }
-      m_Splatter.ProjectAndSplat(count, batch, strata.GetNumberOfStrata(), worker.Sums);
+      m_Splatter.ProjectAndSplatCloud(count,
+                                      m_Cloud.GetX() + first,
+                                      m_Cloud.GetY() + first,
+                                      m_Cloud.GetZ() + first,
+                                      weights ? weights + first : ones.data(),
+                                      stratum ? stratum + first : zeros.data(),
+                                      batch,
+                                      strata.GetNumberOfStrata(),
+                                      worker.Sums);
     }
   }
 
@@ -592,10 +728,11 @@ RunChunks(const ChunkWorkBase & work,
   std::vector<Worker> workers(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
   for (Worker & worker : workers)
   {
-    worker.Sums.Sum.assign(numberOfPixels * strata.GetNumberOfStrata(), 0);
+    // One more: the trash slot, where corners off the detector add their 0 (see ProjectAndSplatCloud()).
+    worker.Sums.Sum.assign(numberOfPixels * strata.GetNumberOfStrata() + 1, 0);
     if (strata.GetNumberOfStrata() == 1)
     {
-      worker.Sums.SumOfSquares.assign(numberOfPixels, 0);
+      worker.Sums.SumOfSquares.assign(numberOfPixels + 1, 0);
     }
   }
   DRRWorkScheduler::Run(
