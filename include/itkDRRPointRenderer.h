@@ -25,6 +25,7 @@
 #include "itkProcessObject.h"
 #include "PointBasedDRRExport.h"
 
+#include <memory>
 #include <vector>
 
 namespace itk
@@ -99,16 +100,24 @@ public:
        MultiThreaderBase *          threader,
        ProcessObject *              progressFilter);
 
+  /** What a render of a cloud keeps for the next one: the workers' sums (left cleared) and batches. A caller that
+   * renders many poses passes the same workspace to each render, which then allocates and clears nothing up front.
+   * Opaque; one render at a time. */
+  class Workspace;
+  static std::shared_ptr<Workspace>
+  MakeWorkspace();
+
   /** Renders the points of a cloud for a projection (built from the volume the cloud was drawn from, with any
    * transform and geometry); only the splat and weighting of the settings are used. Cheaper than a render that
    * draws: no sampling, the points are read from memory. The same cloud and projection give the same bits on any
-   * number of threads. */
+   * number of threads, with or without a workspace (may be null). */
   static Result
   Render(const DRRPointCloud & cloud,
          DRRPointProjection    projection,
          const Settings &      settings,
          MultiThreaderBase *   threader,
-         ProcessObject *       progressFilter);
+         ProcessObject *       progressFilter,
+         Workspace *           workspace = nullptr);
 
   /** Continuous-index box [lower, upper] that the kernel's points can reach. */
   static void

@@ -198,6 +198,8 @@ private:
   DRRPointCloud::Pointer        m_PointCloud;
   std::vector<ModifiedTimeType> m_PointCloudKey; // what the kept points were drawn from
   unsigned int                  m_NumberOfPointCloudDraws{ 0 };
+  // The renders of the kept points reuse their sums from pose to pose.
+  std::shared_ptr<DRRPointRenderer::Workspace> m_PointCloudWorkspace;
 };
 } // namespace itk
 

@@ -140,7 +140,12 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
     m_PointCloudKey = key;
     ++m_NumberOfPointCloudDraws;
   }
-  return DRRPointRenderer::Render(*m_PointCloud, this->MakeProjection(), settings, this->GetMultiThreader(), this);
+  if (!m_PointCloudWorkspace)
+  {
+    m_PointCloudWorkspace = DRRPointRenderer::MakeWorkspace();
+  }
+  return DRRPointRenderer::Render(
+    *m_PointCloud, this->MakeProjection(), settings, this->GetMultiThreader(), this, m_PointCloudWorkspace.get());
 }
 
 template <typename TInputImage, typename TOutputImage>

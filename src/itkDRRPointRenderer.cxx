@@ -89,6 +89,18 @@ struct Worker
   std::unique_ptr<CloudBatch> CloudScratch;
 };
 
+} // namespace
+
+/** The workers of a render, kept for the next (see DRRPointRenderer::MakeWorkspace()). */
+class DRRPointRenderer::Workspace
+{
+public:
+  std::vector<Worker> Workers;
+  bool                Cleared{ false }; // every sum of every worker is zero
+};
+
+namespace
+{
 /** The strata of a render. Contiguous: R runs of consecutive samples, of N / R samples each (up to one).
  * Interleaved (DRRPointSampler::InterleavesStrata()): R strata of ceil(N / R) samples each, drawn as one run in which
  * the sampler tells the stratum of every sample. */
@@ -714,94 +726,148 @@ PlanFixedPoint(double                        numberOfSamples,
   return fixedPoint;
 }
 
-/** Runs work over every chunk of the strata's samples, with one worker (sums of numberOfPixels pixels, or none)
- * per thread. */
-std::vector<Worker>
-RunChunks(const ChunkWorkBase & work,
-          const Strata &        strata,
-          size_t                numberOfPixels,
-          MultiThreaderBase *   threader,
-          ProcessObject *       progressFilter)
+/** Gives the workspace one worker per thread, whose sums (of numberOfPixels pixels, or none, and the trash slots)
+ * are all zero; clears only what the last render did not leave cleared. */
+void
+PrepareWorkers(DRRPointRenderer::Workspace & workspace,
+               const Strata &                strata,
+               size_t                        numberOfPixels,
+               MultiThreaderBase *           threader)
 {
   const uint64_t numberOfChunks =
     (strata.GetNumberOfSamples() + DRRPointRenderer::SamplesPerChunk - 1) / DRRPointRenderer::SamplesPerChunk;
-  std::vector<Worker> workers(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
-  for (Worker & worker : workers)
+  // Past the pixels' sums, one trash slot per stratum, where corners off the detector add their 0 (see
+  // ProjectAndSplatCloud()).
+  const size_t sumSize = (numberOfPixels + 1) * strata.GetNumberOfStrata();
+  const size_t squareSize = strata.GetNumberOfStrata() == 1 ? numberOfPixels + 1 : 0;
+  workspace.Workers.resize(DRRWorkScheduler::GetNumberOfWorkers(threader, numberOfChunks));
+  for (Worker & worker : workspace.Workers)
   {
-    // One more: the trash slot, where corners off the detector add their 0 (see ProjectAndSplatCloud()).
-    worker.Sums.Sum.assign(numberOfPixels * strata.GetNumberOfStrata() + 1, 0);
-    if (strata.GetNumberOfStrata() == 1)
+    if (!workspace.Cleared || worker.Sums.Sum.size() != sumSize)
     {
-      worker.Sums.SumOfSquares.assign(numberOfPixels + 1, 0);
+      worker.Sums.Sum.assign(sumSize, 0);
     }
+    if (!workspace.Cleared || worker.Sums.SumOfSquares.size() != squareSize)
+    {
+      worker.Sums.SumOfSquares.assign(squareSize, 0);
+    }
+    worker.Sums.PointsOnDetector = 0;
   }
+  workspace.Cleared = false; // until a reduction clears the sums again
+}
+
+/** Runs work over every chunk of the strata's samples, with one worker of the workspace per thread. */
+void
+RunChunks(const ChunkWorkBase &         work,
+          const Strata &                strata,
+          DRRPointRenderer::Workspace & workspace,
+          MultiThreaderBase *           threader,
+          ProcessObject *               progressFilter)
+{
+  const uint64_t numberOfChunks =
+    (strata.GetNumberOfSamples() + DRRPointRenderer::SamplesPerChunk - 1) / DRRPointRenderer::SamplesPerChunk;
+  std::vector<Worker> & workers = workspace.Workers;
   DRRWorkScheduler::Run(
     threader,
     numberOfChunks,
     [&](unsigned int worker, uint64_t chunk) { work.Run(chunk, strata, workers[worker]); },
     progressFilter);
-  return workers;
 }
 
 /** Integer reduction of the workers' sums into the line integrals and their standard errors: exact, hence
- * independent of the order and of the worker that held each chunk. */
+ * independent of the order and of the worker that held each chunk. Blocks of pixels in parallel (each pixel on its
+ * own: the same bits on any number of threads); each sum is cleared as it is read, for the workspace's next render. */
 void
-Reduce(const std::vector<Worker> & workers,
-       const Strata &              strata,
-       const FixedPoint &          fixedPoint,
-       double                      pixelArea,
-       DRRPointRenderer::Result &  result)
+Reduce(DRRPointRenderer::Workspace & workspace,
+       const Strata &                strata,
+       const FixedPoint &            fixedPoint,
+       double                        pixelArea,
+       MultiThreaderBase *           threader,
+       DRRPointRenderer::Result &    result)
 {
-  const uint64_t      numberOfStrata = strata.GetNumberOfStrata();
-  const double        N = static_cast<double>(strata.GetNumberOfSamples());
-  const double        valueScale = result.SampledRoomMass / (N * pixelArea);
-  const double        inverseSumScale = std::ldexp(1.0, -fixedPoint.SumExponent);
-  const double        inverseSquareScale = std::ldexp(1.0, -fixedPoint.SquareExponent);
-  std::vector<double> stratumSums(numberOfStrata);
-  for (size_t p = 0; p < result.LineIntegral.size(); ++p)
+  std::vector<Worker> & workers = workspace.Workers;
+  const uint64_t        numberOfStrata = strata.GetNumberOfStrata();
+  const double          N = static_cast<double>(strata.GetNumberOfSamples());
+  const double          valueScale = result.SampledRoomMass / (N * pixelArea);
+  const double          inverseSumScale = std::ldexp(1.0, -fixedPoint.SumExponent);
+  const double          inverseSquareScale = std::ldexp(1.0, -fixedPoint.SquareExponent);
+  std::vector<double>   stratumScale(numberOfStrata); // M / (n_r a), the same for every pixel
+  for (uint64_t r = 0; r < numberOfStrata; ++r)
   {
-    double s = 0.0;
-    for (uint64_t r = 0; r < numberOfStrata; ++r)
+    stratumScale[r] = result.SampledRoomMass / (strata.Size(r) * pixelArea);
+  }
+  const size_t numberOfPixels = result.LineIntegral.size();
+  const auto   reduceBlock = [&](size_t firstPixel, size_t endPixel) {
+    std::vector<double> stratumSums(numberOfStrata);
+    for (size_t p = firstPixel; p < endPixel; ++p)
     {
-      int64_t sum = 0;
-      for (const Worker & worker : workers)
-      {
-        sum += worker.Sums.Sum[p * numberOfStrata + r];
-      }
-      stratumSums[r] = static_cast<double>(sum) * inverseSumScale;
-      s += stratumSums[r];
-    }
-    result.LineIntegral[p] = valueScale * s;
-    if (numberOfStrata == 1)
-    {
-      int64_t sumOfSquares = 0;
-      for (const Worker & worker : workers)
-      {
-        sumOfSquares += worker.Sums.SumOfSquares[p];
-      }
-      const double s2 = static_cast<double>(sumOfSquares) * inverseSquareScale;
-      const double variance = strata.GetNumberOfSamples() > 1 ? N / (N - 1.0) * std::max(0.0, s2 - s * s / N) : s2;
-      result.StandardError[p] = valueScale * std::sqrt(variance);
-    }
-    else
-    {
-      // Each stratum is an independent estimate L_r = M / (n_r a) S_r of the same image; the variance of their
-      // combination is estimated from their spread.
-      double squaredDeviations = 0.0;
+      double s = 0.0;
       for (uint64_t r = 0; r < numberOfStrata; ++r)
       {
-        const double estimate = result.SampledRoomMass / (strata.Size(r) * pixelArea) * stratumSums[r];
-        squaredDeviations += (estimate - result.LineIntegral[p]) * (estimate - result.LineIntegral[p]);
+        int64_t sum = 0;
+        for (Worker & worker : workers)
+        {
+          sum += worker.Sums.Sum[p * numberOfStrata + r];
+          worker.Sums.Sum[p * numberOfStrata + r] = 0;
+        }
+        stratumSums[r] = static_cast<double>(sum) * inverseSumScale;
+        s += stratumSums[r];
       }
-      result.StandardError[p] = std::sqrt(squaredDeviations / (numberOfStrata * (numberOfStrata - 1.0)));
+      result.LineIntegral[p] = valueScale * s;
+      if (numberOfStrata == 1)
+      {
+        int64_t sumOfSquares = 0;
+        for (Worker & worker : workers)
+        {
+          sumOfSquares += worker.Sums.SumOfSquares[p];
+          worker.Sums.SumOfSquares[p] = 0;
+        }
+        const double s2 = static_cast<double>(sumOfSquares) * inverseSquareScale;
+        const double variance = strata.GetNumberOfSamples() > 1 ? N / (N - 1.0) * std::max(0.0, s2 - s * s / N) : s2;
+        result.StandardError[p] = valueScale * std::sqrt(variance);
+      }
+      else
+      {
+        // Each stratum is an independent estimate L_r = M / (n_r a) S_r of the same image; the variance of their
+        // combination is estimated from their spread.
+        double squaredDeviations = 0.0;
+        for (uint64_t r = 0; r < numberOfStrata; ++r)
+        {
+          const double estimate = stratumScale[r] * stratumSums[r];
+          squaredDeviations += (estimate - result.LineIntegral[p]) * (estimate - result.LineIntegral[p]);
+        }
+        result.StandardError[p] = std::sqrt(squaredDeviations / (numberOfStrata * (numberOfStrata - 1.0)));
+      }
     }
+  };
+  constexpr size_t pixelsPerBlock = 8192;
+  const size_t     numberOfBlocks = (numberOfPixels + pixelsPerBlock - 1) / pixelsPerBlock;
+  if (numberOfBlocks > 1)
+  {
+    threader->ParallelizeArray(
+      0,
+      numberOfBlocks,
+      [&](SizeValueType block) {
+        reduceBlock(block * pixelsPerBlock, std::min(numberOfPixels, (block + 1) * pixelsPerBlock));
+      },
+      nullptr);
+  }
+  else
+  {
+    reduceBlock(0, numberOfPixels);
   }
   result.NumberOfStrata = numberOfStrata;
   result.NumberOfSamples = strata.GetNumberOfSamples();
-  for (const Worker & worker : workers)
+  for (Worker & worker : workers)
   {
     result.PointsOnDetector += worker.Sums.PointsOnDetector;
+    // The trash slots, past the pixels.
+    std::fill(worker.Sums.Sum.begin() + numberOfPixels * numberOfStrata, worker.Sums.Sum.end(), 0);
+    std::fill(worker.Sums.SumOfSquares.begin() + std::min(numberOfPixels, worker.Sums.SumOfSquares.size()),
+              worker.Sums.SumOfSquares.end(),
+              0);
   }
+  workspace.Cleared = true;
 }
 
 /** A result of zeros for the projection's detector. */
@@ -867,24 +933,33 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   const Strata          strata = MakeStrata(sampler, settings);
   std::array<double, 3> lower, upper;
   ComputeKernelSupport(volume, settings.Kernel, lower, upper);
-  const FixedPoint          fixedPoint = PlanFixedPoint(static_cast<double>(strata.GetNumberOfSamples()),
+  const FixedPoint fixedPoint = PlanFixedPoint(static_cast<double>(strata.GetNumberOfSamples()),
                                                sampler.GetMaximumWeight(),
                                                lower,
                                                upper,
                                                settings.Weighting == WeightingEnum::Unbiased,
                                                projection,
                                                result);
-  const std::vector<Worker> workers = WithKernel(settings.Kernel, [&](auto kernel) {
+  Workspace        workspace;
+  PrepareWorkers(workspace, strata, result.LineIntegral.size(), threader);
+  WithKernel(settings.Kernel, [&](auto kernel) {
     return WithSplat(settings.Splat, [&](auto splat) {
       const PointDrawer<decltype(kernel)>  drawer(volume, sampler, settings.Seed);
       const PointSplatter<decltype(splat)> splatter(
         projection, fixedPoint, settings.Weighting == WeightingEnum::Unbiased);
       const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(drawer, splatter);
-      return RunChunks(work, strata, result.LineIntegral.size(), threader, progressFilter);
+      RunChunks(work, strata, workspace, threader, progressFilter);
+      return 0;
     });
   });
-  Reduce(workers, strata, fixedPoint, projection.GetPixelArea(), result);
+  Reduce(workspace, strata, fixedPoint, projection.GetPixelArea(), threader, result);
   return result;
+}
+
+std::shared_ptr<DRRPointRenderer::Workspace>
+DRRPointRenderer::MakeWorkspace()
+{
+  return std::make_shared<Workspace>();
 }
 
 DRRPointCloud::Pointer
@@ -918,10 +993,12 @@ DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
   }
   cloud->Allocate(
     strata.GetNumberOfSamples(), sampler.GetMaximumWeight() != 1.0, strata.GetNumberOfStrata() > 1, description);
+  Workspace workspace;
+  PrepareWorkers(workspace, strata, 0, threader);
   WithKernel(settings.Kernel, [&](auto kernel) {
     const PointDrawer<decltype(kernel)>         drawer(volume, sampler, settings.Seed);
     const DrawChunksIntoCloud<decltype(kernel)> work(drawer, *cloud);
-    RunChunks(work, strata, 0, threader, progressFilter);
+    RunChunks(work, strata, workspace, threader, progressFilter);
     return 0;
   });
   return cloud;
@@ -932,7 +1009,8 @@ DRRPointRenderer::Render(const DRRPointCloud & cloud,
                          DRRPointProjection    projection,
                          const Settings &      settings,
                          MultiThreaderBase *   threader,
-                         ProcessObject *       progressFilter)
+                         ProcessObject *       progressFilter,
+                         Workspace *           workspace)
 {
   const DRRPointCloud::Description & description = cloud.GetDescription();
   Result                             result = ZeroResult(projection);
@@ -947,20 +1025,24 @@ DRRPointRenderer::Render(const DRRPointCloud & cloud,
   {
     itkGenericExceptionMacro("DRRPointRenderer: the point cloud's description does not match its points");
   }
-  const bool                unbiased = settings.Weighting == WeightingEnum::Unbiased;
-  const FixedPoint          fixedPoint = PlanFixedPoint(static_cast<double>(strata.GetNumberOfSamples()),
+  const bool       unbiased = settings.Weighting == WeightingEnum::Unbiased;
+  const FixedPoint fixedPoint = PlanFixedPoint(static_cast<double>(strata.GetNumberOfSamples()),
                                                description.MaximumWeight,
                                                description.SupportLower,
                                                description.SupportUpper,
                                                unbiased,
                                                projection,
                                                result);
-  const std::vector<Worker> workers = WithSplat(settings.Splat, [&](auto splat) {
+  Workspace        ownWorkspace;
+  Workspace &      kept = workspace ? *workspace : ownWorkspace;
+  PrepareWorkers(kept, strata, result.LineIntegral.size(), threader);
+  WithSplat(settings.Splat, [&](auto splat) {
     const PointSplatter<decltype(splat)>    splatter(projection, fixedPoint, unbiased);
     const SplatCloudChunks<decltype(splat)> work(cloud, splatter);
-    return RunChunks(work, strata, result.LineIntegral.size(), threader, progressFilter);
+    RunChunks(work, strata, kept, threader, progressFilter);
+    return 0;
   });
-  Reduce(workers, strata, fixedPoint, projection.GetPixelArea(), result);
+  Reduce(kept, strata, fixedPoint, projection.GetPixelArea(), threader, result);
   return result;
 }
 } // namespace itk
