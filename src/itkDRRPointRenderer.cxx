@@ -371,30 +371,39 @@ public:
     int64_t * sum = sums.Sum.data();
     for (unsigned int c = 0; c < TSplat::Corners; ++c)
     {
-      const int32_t * index = batch.Index + c * samplesPerBatch;
-      const int64_t * value = batch.Value + c * samplesPerBatch;
-      for (uint64_t s = 0; s < count; ++s)
-      {
-        sum[index[s]] += value[s];
-      }
+      Scatter(sum, batch.Index + c * samplesPerBatch, batch.Value + c * samplesPerBatch, count);
     }
     if (squares)
     {
       // One stratum: the index of a sum is its pixel's.
-      int64_t * sumOfSquares = sums.SumOfSquares.data();
       for (unsigned int c = 0; c < TSplat::Corners; ++c)
       {
-        const int32_t * index = batch.Index + c * samplesPerBatch;
-        const int64_t * square = batch.Square + c * samplesPerBatch;
-        for (uint64_t s = 0; s < count; ++s)
-        {
-          sumOfSquares[index[s]] += square[s];
-        }
+        Scatter(sums.SumOfSquares.data(), batch.Index + c * samplesPerBatch, batch.Square + c * samplesPerBatch, count);
       }
     }
   }
 
 private:
+  /** sum[index[s]] += value[s] for s < count, in four interleaved streams a quarter of the batch apart. Nearby points
+   * often add to the same sum: in one stream, each addition would wait for the previous one's store; points a quarter
+   * batch apart rarely share a pixel. Integer sums: the order changes nothing. */
+  static void
+  Scatter(int64_t * sum, const int32_t * index, const int64_t * value, uint64_t count)
+  {
+    const uint64_t quarter = count / 4;
+    for (uint64_t s = 0; s < quarter; ++s)
+    {
+      sum[index[s]] += value[s];
+      sum[index[s + quarter]] += value[s + quarter];
+      sum[index[s + 2 * quarter]] += value[s + 2 * quarter];
+      sum[index[s + 3 * quarter]] += value[s + 3 * quarter];
+    }
+    for (uint64_t s = 4 * quarter; s < count; ++s)
+    {
+      sum[index[s]] += value[s];
+    }
+  }
+
   /** The sum index and fixed-point value (and square) of every corner of every point of a cloud batch; returns the
    * number of points that reach the detector. The contribution is rounded to float, then scaled exactly (the scales
    * are powers of two) and rounded to fixed point in double; its square is exact in double. */
