@@ -783,6 +783,92 @@ RunChunks(const ChunkWorkBase &         work,
     progressFilter);
 }
 
+/** total[i] += sum[i], sum[i] = 0 for i < n. */
+PointBasedDRR_VECTOR_CLONES void
+AddAndClear(int64_t * __restrict__ sum, int64_t * __restrict__ total, size_t n)
+{
+  for (size_t i = 0; i < n; ++i)
+  {
+    total[i] += sum[i];
+    sum[i] = 0;
+  }
+}
+
+struct ReduceConstants
+{
+  double N;                  // samples
+  double ValueScale;         // M / (N a)
+  double InverseSumScale;    // of the fixed point
+  double InverseSquareScale; // of the fixed point
+};
+
+/** The line integrals and standard errors of n pixels from their integer sums (pixel major, as the workers'). Each
+ * step a loop over the pixels, so that it vectorizes; every pixel adds its terms in the same order as one loop over
+ * its strata would. */
+PointBasedDRR_VECTOR_CLONES void
+ReducePixels(const int64_t *         total,
+             const int64_t *         totalOfSquares,
+             size_t                  n,
+             uint64_t                numberOfStrata,
+             const double *          stratumScale,
+             const ReduceConstants & constants,
+             double * __restrict__ lineIntegral,
+             double * __restrict__ standardError)
+{
+  const double        N = constants.N;
+  std::vector<double> stratumSums(n * numberOfStrata); // stratum major
+  for (uint64_t r = 0; r < numberOfStrata; ++r)
+  {
+    double * __restrict__ stratumSum = stratumSums.data() + r * n;
+    for (size_t p = 0; p < n; ++p)
+    {
+      stratumSum[p] = static_cast<double>(total[p * numberOfStrata + r]) * constants.InverseSumScale;
+    }
+  }
+  std::vector<double> sums(n, 0.0);
+  for (uint64_t r = 0; r < numberOfStrata; ++r)
+  {
+    const double * stratumSum = stratumSums.data() + r * n;
+    for (size_t p = 0; p < n; ++p)
+    {
+      sums[p] += stratumSum[p];
+    }
+  }
+  for (size_t p = 0; p < n; ++p)
+  {
+    lineIntegral[p] = constants.ValueScale * sums[p];
+  }
+  if (numberOfStrata == 1)
+  {
+    for (size_t p = 0; p < n; ++p)
+    {
+      const double s = sums[p];
+      const double s2 = static_cast<double>(totalOfSquares[p]) * constants.InverseSquareScale;
+      const double variance = N > 1.0 ? N / (N - 1.0) * std::max(0.0, s2 - s * s / N) : s2;
+      standardError[p] = constants.ValueScale * std::sqrt(variance);
+    }
+    return;
+  }
+  // Each stratum is an independent estimate L_r = M / (n_r a) S_r of the same image; the variance of their
+  // combination is estimated from their spread.
+  std::vector<double> squaredDeviations(n, 0.0);
+  for (uint64_t r = 0; r < numberOfStrata; ++r)
+  {
+    const double * stratumSum = stratumSums.data() + r * n;
+    const double   scale = stratumScale[r];
+    for (size_t p = 0; p < n; ++p)
+    {
+      const double estimate = scale * stratumSum[p];
+      squaredDeviations[p] += (estimate - lineIntegral[p]) * (estimate - lineIntegral[p]);
+    }
+  }
+  const double pairs = numberOfStrata * (numberOfStrata - 1.0);
+  for (size_t p = 0; p < n; ++p)
+  {
+    standardError[p] = std::sqrt(squaredDeviations[p] / pairs);
+  }
+}
+
 /** Integer reduction of the workers' sums into the line integrals and their standard errors: exact, hence
  * independent of the order and of the worker that held each chunk. Blocks of pixels in parallel (each pixel on its
  * own: the same bits on any number of threads); each sum is cleared as it is read, for the workspace's next render. */
@@ -805,51 +891,30 @@ Reduce(DRRPointRenderer::Workspace & workspace,
   {
     stratumScale[r] = result.SampledRoomMass / (strata.Size(r) * pixelArea);
   }
-  const size_t numberOfPixels = result.LineIntegral.size();
-  const auto   reduceBlock = [&](size_t firstPixel, size_t endPixel) {
-    std::vector<double> stratumSums(numberOfStrata);
-    for (size_t p = firstPixel; p < endPixel; ++p)
+  const ReduceConstants constants{ N, valueScale, inverseSumScale, inverseSquareScale };
+  const size_t          numberOfPixels = result.LineIntegral.size();
+  const auto            reduceBlock = [&](size_t firstPixel, size_t endPixel) {
+    // First the workers' sums of the block, added (and cleared) in one pass over contiguous memory, then the pixels.
+    std::vector<int64_t> total((endPixel - firstPixel) * numberOfStrata, 0);
+    std::vector<int64_t> totalOfSquares(numberOfStrata == 1 ? endPixel - firstPixel : 0, 0);
+    for (Worker & worker : workers)
     {
-      double s = 0.0;
-      for (uint64_t r = 0; r < numberOfStrata; ++r)
-      {
-        int64_t sum = 0;
-        for (Worker & worker : workers)
-        {
-          sum += worker.Sums.Sum[p * numberOfStrata + r];
-          worker.Sums.Sum[p * numberOfStrata + r] = 0;
-        }
-        stratumSums[r] = static_cast<double>(sum) * inverseSumScale;
-        s += stratumSums[r];
-      }
-      result.LineIntegral[p] = valueScale * s;
+      AddAndClear(worker.Sums.Sum.data() + firstPixel * numberOfStrata, total.data(), total.size());
       if (numberOfStrata == 1)
       {
-        int64_t sumOfSquares = 0;
-        for (Worker & worker : workers)
-        {
-          sumOfSquares += worker.Sums.SumOfSquares[p];
-          worker.Sums.SumOfSquares[p] = 0;
-        }
-        const double s2 = static_cast<double>(sumOfSquares) * inverseSquareScale;
-        const double variance = strata.GetNumberOfSamples() > 1 ? N / (N - 1.0) * std::max(0.0, s2 - s * s / N) : s2;
-        result.StandardError[p] = valueScale * std::sqrt(variance);
-      }
-      else
-      {
-        // Each stratum is an independent estimate L_r = M / (n_r a) S_r of the same image; the variance of their
-        // combination is estimated from their spread.
-        double squaredDeviations = 0.0;
-        for (uint64_t r = 0; r < numberOfStrata; ++r)
-        {
-          const double estimate = stratumScale[r] * stratumSums[r];
-          squaredDeviations += (estimate - result.LineIntegral[p]) * (estimate - result.LineIntegral[p]);
-        }
-        result.StandardError[p] = std::sqrt(squaredDeviations / (numberOfStrata * (numberOfStrata - 1.0)));
+        AddAndClear(worker.Sums.SumOfSquares.data() + firstPixel, totalOfSquares.data(), totalOfSquares.size());
       }
     }
+    ReducePixels(total.data(),
+                 totalOfSquares.data(),
+                 endPixel - firstPixel,
+                 numberOfStrata,
+                 stratumScale.data(),
+                 constants,
+                 result.LineIntegral.data() + firstPixel,
+                 result.StandardError.data() + firstPixel);
   };
-  constexpr size_t pixelsPerBlock = 8192;
+  constexpr size_t pixelsPerBlock = 2048;
   const size_t     numberOfBlocks = (numberOfPixels + pixelsPerBlock - 1) / pixelsPerBlock;
   if (numberOfBlocks > 1)
   {
