@@ -31,6 +31,7 @@
 #include "pbdrrVolumeLoader.h"
 
 #include "itkEuler3DTransform.h"
+#include "itkOrientImageFilter.h"
 #include "itkRayCastInterpolateImageFunction.h"
 #include "itkResampleImageFilter.h"
 
@@ -155,6 +156,26 @@ Parse(int argc, char * argv[])
   return options;
 }
 
+/** The same voxels at the same places with an identity direction matrix (axes permuted and flipped): ITK's ray caster
+ * ignores the direction; both methods get this volume. */
+VolumeType::Pointer
+WithIdentityDirection(VolumeType * volume)
+{
+  VolumeType::DirectionType identity;
+  identity.SetIdentity();
+  if (volume->GetDirection() == identity)
+    return volume;
+  auto orient = itk::OrientImageFilter<VolumeType, VolumeType>::New();
+  orient->SetInput(volume);
+  orient->UseImageDirectionOn();
+  orient->SetDesiredCoordinateDirection(identity);
+  orient->Update();
+  if (!(orient->GetOutput()->GetDirection() == identity))
+    throw std::runtime_error(
+      "the volume's direction is not a permutation of the axes: ITK's ray caster cannot take it");
+  return orient->GetOutput();
+}
+
 itk::Point<double, 3>
 VolumeCentre(const itk::ImageBase<3> * volume)
 {
@@ -218,7 +239,7 @@ public:
   int
   Run()
   {
-    m_Volume = pbdrr::LoadVolume(m_Options.Input, "").Image;
+    m_Volume = WithIdentityDirection(pbdrr::LoadVolume(m_Options.Input, "").Image);
     m_Centre = VolumeCentre(m_Volume);
     m_Poses = MakePoses(m_Options.Poses);
     for (unsigned size : m_Options.Sizes)
