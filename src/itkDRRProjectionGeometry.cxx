@@ -21,6 +21,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -440,6 +441,12 @@ DRRProjectionGeometry::ApplyGeometryKey(const std::string &              key,
 void
 DRRProjectionGeometry::ReadGeometryFile(const std::string & fileName)
 {
+  // A directory opens as a stream that reads nothing, which would leave the defaults in place: refuse it.
+  std::error_code error;
+  if (std::filesystem::is_directory(fileName, error))
+  {
+    ThrowGeometryError("cannot read geometry file '" + fileName + "': it is a directory");
+  }
   std::ifstream file(fileName);
   if (!file)
   {

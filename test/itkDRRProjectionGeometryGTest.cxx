@@ -30,6 +30,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -864,6 +865,20 @@ TEST(DRRProjectionGeometryFile, NonexistentFileThrows)
   auto              geometry = GeometryType::New();
   const std::string message = ExceptionMessage([&] { geometry->ReadGeometryFile(fileName); }, "nonexistent file");
   EXPECT_TRUE(Contains(message, fileName)) << message;
+}
+
+TEST(DRRProjectionGeometryFile, DirectoryThrowsAndLeavesTheGeometryAlone)
+{
+  // A directory opens as an ifstream that reads nothing: without a check, the defaults would silently stand.
+  const std::string directory = TempFileName("geometry_directory_5e2a");
+  std::filesystem::create_directories(directory);
+  auto geometry = GeometryType::New();
+  geometry->SetSourceToDetectorDistance(1234.0);
+  const std::string message = ExceptionMessage([&] { geometry->ReadGeometryFile(directory); }, "directory");
+  EXPECT_TRUE(Contains(message, "directory")) << message;
+  EXPECT_TRUE(Contains(message, directory)) << message;
+  EXPECT_EQ(geometry->GetSourceToDetectorDistance(), 1234.0);
+  std::filesystem::remove(directory);
 }
 
 TEST(DRRProjectionGeometryFile, ParseGeometryLineDirectly)
