@@ -15,11 +15,16 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-// MakeTestVolumes DIR: writes the tiny inputs of the pbdrr command-line tests into DIR (see test/cli/CMakeLists.txt):
+// MakeTestVolumes DIR [J2K]: writes the tiny inputs of the pbdrr command-line tests into DIR (see
+// test/cli/CMakeLists.txt):
 //   phantom.mha (16 x 16 x 12 short HU), image2d.mha, image4d.mha, vector.mha (3 components), garbage.mha (text),
-//   truncated.mha (a header whose pixel data is cut short), isdir.mha/ (a directory), geometry files, and DICOM
+//   truncated.mha (a header whose pixel data is cut short), isdir.mha/ (a directory), nan.mha and inf.mha (a
+//   non-finite voxel), empty.mha (no voxels), float_extremes.mha (HU from -1e30 to 1e6), geometry files good and bad,
+//   dicom_jpeg2000_truncated (a copy of the JPEG 2000 series J2K with one slice cut short, if J2K is given), and DICOM
 //   series directories: dicom_good, dicom_missing, dicom_uneven, dicom_tilt, dicom_duplicate, dicom_orientation,
-//   dicom_single, dicom_two_series, dicom_empty, dicom_text_only.
+//   dicom_single, dicom_two_series, dicom_empty, dicom_text_only, dicom_truncated (a slice cut short),
+//   dicom_with_report (non-image objects beside the slices) and multi-frame files: dicom_multiframe (and _descending,
+//   _uneven, _shuffled, _legacy, _nogroups, _nowhere).
 // The slice positions written into the DICOM files are read back with GDCM and checked, so a test that expects
 // "missing slice" really gets a series with a missing slice.
 #include "itkGDCMImageIO.h"
@@ -27,13 +32,19 @@
 #include "itkImageFileWriter.h"
 #include "itkMetaDataObject.h"
 #include "itkVector.h"
+#include "gdcmReader.h"
 #include "gdcmScanner.h"
+#include "gdcmSequenceOfItems.h"
+#include "gdcmWriter.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -263,6 +274,181 @@ WriteSeries(const fs::path &               directory,
   }
 }
 
+/** A DICOM object without pixel data (a Basic Text SR, as a dose report stored beside the slices). */
+void
+WriteReport(const fs::path & file, const std::string & seriesUID, const std::string & instanceUID)
+{
+  gdcm::Writer      writer;
+  gdcm::File &      dicom = writer.GetFile();
+  gdcm::DataSet &   dataSet = dicom.GetDataSet();
+  const std::string sopClass = "1.2.840.10008.5.1.4.1.1.88.11"; // Basic Text SR Storage
+  auto              put = [&](uint16_t group, uint16_t element, const char * vr, const std::string & value) {
+    gdcm::DataElement data(gdcm::Tag(group, element));
+    data.SetVR(gdcm::VR::GetVRType(vr));
+    std::string padded = value;
+    if (padded.size() % 2)
+    {
+      padded.push_back(std::string(vr) == "UI" ? '\0' : ' ');
+    }
+    data.SetByteValue(padded.data(), static_cast<uint32_t>(padded.size()));
+    dataSet.Insert(data);
+  };
+  put(0x0008, 0x0016, "UI", sopClass);
+  put(0x0008, 0x0018, "UI", instanceUID);
+  put(0x0008, 0x0060, "CS", "SR");
+  put(0x0010, 0x0010, "PN", "PBDRR^TEST");
+  put(0x0020, 0x000d, "UI", studyUID);
+  put(0x0020, 0x000e, "UI", seriesUID);
+  put(0x0040, 0xa040, "CS", "CONTAINER");
+  dicom.GetHeader().SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
+  writer.SetCheckFileMetaInformation(true);
+  writer.SetFileName(file.string().c_str());
+  if (!writer.Write())
+  {
+    throw std::runtime_error("cannot write the DICOM report " + file.string());
+  }
+}
+
+/** The value of the multi-frame phantom: the series phantom, plus a marker in its first three slices, so that a
+ * volume read upside down differs. */
+short
+MultiFrameValue(unsigned x, unsigned y, unsigned z)
+{
+  return static_cast<short>(PhantomValue(0.9 * (x - 7.5), 0.9 * (y - 7.5)) + (z < 3 && x < 4 ? 500 : 0));
+}
+
+/** A multi-frame (enhanced CT) DICOM file of 16 x 16 x 8 voxels at 0.9 x 0.9 x 2.5 mm, origin (-6.75, -6.75, -10),
+ * frames stored from the lowest position up, or, with `descending`, from the highest down (then its per-frame
+ * positions are rewritten to say so). */
+void
+WriteMultiFrame(const fs::path & file, const std::string & seriesUID, bool descending = false)
+{
+  using ImageType = itk::Image<short, 3>;
+  auto                   image = ImageType::New();
+  ImageType::SizeType    size{ { 16, 16, 8 } };
+  ImageType::SpacingType spacing;
+  spacing[0] = 0.9;
+  spacing[1] = 0.9;
+  spacing[2] = 2.5;
+  ImageType::PointType origin;
+  origin[0] = -6.75;
+  origin[1] = -6.75;
+  origin[2] = -10.0;
+  image->SetRegions(size);
+  image->SetSpacing(spacing);
+  image->SetOrigin(origin);
+  image->Allocate();
+  for (unsigned z = 0; z < size[2]; ++z)
+  {
+    for (unsigned y = 0; y < size[1]; ++y)
+    {
+      for (unsigned x = 0; x < size[0]; ++x)
+      {
+        image->SetPixel({ { x, y, z } }, MultiFrameValue(x, y, descending ? 7 - z : z));
+      }
+    }
+  }
+  auto io = itk::GDCMImageIO::New();
+  io->KeepOriginalUIDOn();
+  itk::MetaDataDictionary dictionary;
+  itk::EncapsulateMetaData<std::string>(dictionary, "0008|0016", "1.2.840.10008.5.1.4.1.1.2");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0008|0018", seriesUID + ".1");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0008|0060", "CT");
+  itk::EncapsulateMetaData<std::string>(dictionary, "0020|000d", studyUID);
+  itk::EncapsulateMetaData<std::string>(dictionary, "0020|000e", seriesUID);
+  io->SetMetaDataDictionary(dictionary);
+  image->SetMetaDataDictionary(dictionary);
+  auto writer = itk::ImageFileWriter<ImageType>::New();
+  writer->SetInput(image);
+  writer->SetImageIO(io);
+  writer->SetFileName(file.string());
+  writer->Update();
+}
+
+/** A DS value element. */
+gdcm::DataElement
+DecimalStrings(const gdcm::Tag & tag, const std::string & value)
+{
+  gdcm::DataElement element(tag);
+  element.SetVR(gdcm::VR::DS);
+  std::string padded = value;
+  if (padded.size() % 2)
+  {
+    padded.push_back(' ');
+  }
+  element.SetByteValue(padded.data(), static_cast<uint32_t>(padded.size()));
+  return element;
+}
+
+/** Rewrites a multi-frame file in place: positions(k) gives frame k's Image Position (Patient); with
+ * `dropPositions` the functional groups are removed instead and the geometry written as top-level elements, with
+ * `topLevelSpacing` (if not empty) as the Spacing Between Slices. */
+void
+EditFrames(const fs::path &                               file,
+           const std::function<Vector3(unsigned frame)> & positions,
+           bool                                           dropPositions = false,
+           const std::string &                            topLevelSpacing = "",
+           bool                                           legacyClass = false)
+{
+  gdcm::Reader reader;
+  reader.SetFileName(file.string().c_str());
+  if (!reader.Read())
+  {
+    throw std::runtime_error("cannot read back " + file.string());
+  }
+  gdcm::DataSet & dataSet = reader.GetFile().GetDataSet();
+  const gdcm::Tag perFrameTag(0x5200, 0x9230), sharedTag(0x5200, 0x9229);
+  if (dropPositions)
+  {
+    // A legacy multi-frame object: no functional groups, the geometry in top-level elements.
+    dataSet.Remove(perFrameTag);
+    dataSet.Remove(sharedTag);
+    dataSet.Replace(DecimalStrings(gdcm::Tag(0x0020, 0x0032), "-6.75\\-6.75\\-10"));
+    dataSet.Replace(DecimalStrings(gdcm::Tag(0x0020, 0x0037), "1\\0\\0\\0\\1\\0"));
+    dataSet.Replace(DecimalStrings(gdcm::Tag(0x0028, 0x0030), "0.9\\0.9"));
+    if (!topLevelSpacing.empty())
+    {
+      dataSet.Replace(DecimalStrings(gdcm::Tag(0x0018, 0x0088), topLevelSpacing));
+    }
+    if (legacyClass)
+    {
+      const std::string ct = "1.2.840.10008.5.1.4.1.1.2"; // CT Image Storage, not Enhanced CT
+      gdcm::DataElement sopClass(gdcm::Tag(0x0008, 0x0016));
+      sopClass.SetVR(gdcm::VR::UI);
+      sopClass.SetByteValue((ct + '\0').data(), static_cast<uint32_t>(ct.size() + 1));
+      dataSet.Replace(sopClass);
+      reader.GetFile().GetHeader().Clear();
+    }
+  }
+  else
+  {
+    gdcm::DataElement                         perFrame = dataSet.GetDataElement(perFrameTag);
+    gdcm::SmartPointer<gdcm::SequenceOfItems> frames = perFrame.GetValueAsSQ();
+    for (unsigned k = 0; k < frames->GetNumberOfItems(); ++k)
+    {
+      gdcm::DataSet &                           groups = frames->GetItem(k + 1).GetNestedDataSet();
+      gdcm::DataElement                         plane = groups.GetDataElement(gdcm::Tag(0x0020, 0x9113));
+      gdcm::SmartPointer<gdcm::SequenceOfItems> planeItems = plane.GetValueAsSQ();
+      const Vector3                             position = positions(k);
+      planeItems->GetItem(1).GetNestedDataSet().Replace(
+        DecimalStrings(gdcm::Tag(0x0020, 0x0032), Join(position.data(), 3)));
+      plane.SetValue(*planeItems);
+      plane.SetVLToUndefined();
+      groups.Replace(plane);
+    }
+    perFrame.SetValue(*frames);
+    perFrame.SetVLToUndefined();
+    dataSet.Replace(perFrame);
+  }
+  gdcm::Writer writer;
+  writer.SetFile(reader.GetFile());
+  writer.SetFileName(file.string().c_str());
+  if (!writer.Write())
+  {
+    throw std::runtime_error("cannot rewrite " + file.string());
+  }
+}
+
 std::vector<SliceSpec>
 AxialStack(size_t count, double step, double firstZ = -10.0)
 {
@@ -278,9 +464,9 @@ AxialStack(size_t count, double step, double firstZ = -10.0)
 int
 main(int argc, char * argv[])
 {
-  if (argc != 2)
+  if (argc != 2 && argc != 3)
   {
-    std::cerr << "usage: " << argv[0] << " OUTPUT_DIRECTORY" << std::endl;
+    std::cerr << "usage: " << argv[0] << " OUTPUT_DIRECTORY [JPEG2000_DICOM_DIRECTORY]" << std::endl;
     return 2;
   }
   try
@@ -305,6 +491,39 @@ main(int argc, char * argv[])
               "spacing 1.2 1.2\n");
     WriteText(root / "geometry_badkey.txt", "sad 1000\nfrobnicate 3\n");
     WriteText(root / "geometry_badvalue.txt", "sad 1000\nsid 1500\ncols many\n");
+    WriteText(root / "geometry_missing_value.txt", "sad 1000\nsid\n");
+    WriteText(root / "geometry_not_a_number.txt", "sad 1000\nsid far\n");
+    WriteText(root / "geometry_vup_parallel.txt", "# the detector has no rows\nnrm 0 0 1\nvup 0 0 -2\n");
+    WriteText(root / "geometry_negative_size.txt", "cols 32\nrows -32\n");
+    WriteText(root / "geometry_negative_spacing.txt", "spacing 1.2 -1.2\n");
+    WriteText(root / "geometry_binary.txt", std::string("sad \0\x01\xff 1000\n", 12));
+
+    // Voxels that are not numbers, an image without voxels, and float HU at and beyond the scanners' extremes.
+    using FloatVolume = itk::Image<float, 3>;
+    for (const auto & bad : { std::make_pair("nan", std::numeric_limits<float>::quiet_NaN()),
+                              std::make_pair("inf", std::numeric_limits<float>::infinity()) })
+    {
+      auto image = FloatVolume::New();
+      image->SetRegions(FloatVolume::SizeType{ { 8, 8, 8 } });
+      image->Allocate();
+      image->FillBuffer(0.0f);
+      image->SetPixel({ { 2, 3, 4 } }, bad.second);
+      itk::WriteImage(image, (root / (std::string(bad.first) + ".mha")).string());
+    }
+    WriteText(root / "empty.mha",
+              "ObjectType = Image\nNDims = 3\nDimSize = 4 4 0\nElementType = MET_SHORT\nElementDataFile = LOCAL\n");
+    {
+      auto image = FloatVolume::New();
+      image->SetRegions(FloatVolume::SizeType{ { 8, 8, 8 } });
+      image->Allocate();
+      const float extremes[] = { -1e30f, -32768.0f, -3024.0f, -2048.0f, -1024.0f, 3071.0f, 32767.0f, 1e6f };
+      float *     buffer = image->GetBufferPointer();
+      for (size_t v = 0; v < 512; ++v)
+      {
+        buffer[v] = extremes[(v * 5 + v / 8) % 8];
+      }
+      itk::WriteImage(image, (root / "float_extremes.mha").string());
+    }
 
     // DICOM series: 8 axial slices 2.5 mm apart, and broken variants.
     const std::string uid = "2.25.7147200";
@@ -341,6 +560,59 @@ main(int argc, char * argv[])
     const fs::path two = FreshDirectory(root / "dicom_two_series");
     WriteSeries(two, LARGE_SERIES_UID, AxialStack(8, 2.5), "A");
     WriteSeries(two, SMALL_SERIES_UID, AxialStack(5, 3.0, 20.0), "B");
+
+    // A slice cut short in the middle of a good series.
+    const fs::path truncated = FreshDirectory(root / "dicom_truncated");
+    WriteSeries(truncated, uid + "8", AxialStack(8, 2.5));
+    fs::resize_file(truncated / "IM0005.dcm", fs::file_size(truncated / "IM0005.dcm") * 3 / 5);
+
+    // Non-image objects beside the slices: a report in the same series and one in a series of its own.
+    const fs::path report = FreshDirectory(root / "dicom_with_report");
+    WriteSeries(report, uid + "9", AxialStack(8, 2.5));
+    WriteReport(report / "SR0001.dcm", uid + "9", uid + "9.100");
+    WriteReport(report / "SR0002.dcm", uid + "10", uid + "10.1");
+
+    // Multi-frame files: good (frames stored upwards and downwards; a legacy object placed by its top-level spacing),
+    // and with frame positions that are uneven, out of order, absent from an enhanced object, or absent with no
+    // spacing at all.
+    const auto framePosition = [](double z) { return Vector3{ { -6.75, -6.75, z } }; };
+    WriteMultiFrame(FreshDirectory(root / "dicom_multiframe") / "MF0001.dcm", uid + "11");
+    const fs::path descending = FreshDirectory(root / "dicom_multiframe_descending") / "MF0001.dcm";
+    WriteMultiFrame(descending, uid + "12", true);
+    EditFrames(descending, [&](unsigned k) { return framePosition(7.5 - 2.5 * k); });
+    const fs::path unevenFrames = FreshDirectory(root / "dicom_multiframe_uneven") / "MF0001.dcm";
+    WriteMultiFrame(unevenFrames, uid + "13");
+    EditFrames(unevenFrames, [&](unsigned k) { return framePosition(-10.0 + 2.5 * k + (k >= 5 ? 0.6 : 0.0)); });
+    const fs::path shuffled = FreshDirectory(root / "dicom_multiframe_shuffled") / "MF0001.dcm";
+    WriteMultiFrame(shuffled, uid + "14");
+    EditFrames(shuffled, [&](unsigned k) { return framePosition(-10.0 + 2.5 * (k == 2 ? 5 : (k == 5 ? 2 : k))); });
+    const fs::path legacy = FreshDirectory(root / "dicom_multiframe_legacy") / "MF0001.dcm";
+    WriteMultiFrame(legacy, uid + "15");
+    EditFrames(legacy, nullptr, true, "2.5", true);
+    const fs::path noGroups = FreshDirectory(root / "dicom_multiframe_nogroups") / "MF0001.dcm";
+    WriteMultiFrame(noGroups, uid + "17");
+    EditFrames(noGroups, nullptr, true, "2.5");
+    const fs::path nowhere = FreshDirectory(root / "dicom_multiframe_nowhere") / "MF0001.dcm";
+    WriteMultiFrame(nowhere, uid + "16");
+    EditFrames(nowhere, nullptr, true);
+
+    // Real JPEG 2000 slices, one of them cut short (only if the shared data is there).
+    if (argc > 2 && fs::is_directory(argv[2]))
+    {
+      const fs::path        cut = FreshDirectory(root / "dicom_jpeg2000_truncated");
+      std::vector<fs::path> slices;
+      for (const auto & entry : fs::directory_iterator(argv[2]))
+      {
+        slices.push_back(entry.path());
+      }
+      std::sort(slices.begin(), slices.end());
+      for (const auto & slice : slices)
+      {
+        fs::copy_file(slice, cut / slice.filename());
+      }
+      const fs::path victim = cut / slices[slices.size() / 2].filename();
+      fs::resize_file(victim, fs::file_size(victim) - 5000);
+    }
 
     FreshDirectory(root / "dicom_empty");
     WriteText(FreshDirectory(root / "dicom_text_only") / "README.txt", "no DICOM here\n");

@@ -12,6 +12,8 @@
 #   EXPECT_NO_FILES      |-separated files that must not exist after the run (deleted before it).
 #   EXPECT_SIZE          "COLS ROWS": size of the first EXPECT_FILES entry (.mha/.mhd, .nrrd or .png).
 #   OUTPUT_DIRECTORY     created before the run (where the tests write; pbdrr does not create directories).
+#   REQUIRE              a path the test needs (real data under ../shared/data): absent, the test prints
+#                        "SKIPPED: ..." and stops (the test's SKIP_REGULAR_EXPRESSION).
 cmake_minimum_required(VERSION 3.16)
 
 if(NOT EXE)
@@ -19,6 +21,11 @@ if(NOT EXE)
 endif()
 if(NOT DEFINED EXPECT_EXIT)
   message(FATAL_ERROR "RunPbdrr: EXPECT_EXIT is not set")
+endif()
+
+if(DEFINED REQUIRE AND NOT EXISTS "${REQUIRE}")
+  message(STATUS "SKIPPED: ${REQUIRE} is absent (real data from ../shared/data)")
+  return()
 endif()
 
 set(arguments ${ARGS})
