@@ -1,0 +1,37 @@
+# Renders two inputs with the same pbdrr options and fails unless the two images are identical, byte for byte:
+#
+#   cmake -DEXE=/path/to/pbdrr -DFIRST=input1 -DSECOND=input2 -DOUTPUT_DIRECTORY=dir -DNAME=name
+#         -P CompareRenders.cmake -- pbdrr options...
+#
+# Used with --exact: two files that hold the same volume in different layouts must give the same radiograph.
+cmake_minimum_required(VERSION 3.16)
+set(options "")
+set(after_separator FALSE)
+math(EXPR last "${CMAKE_ARGC} - 1")
+foreach(i RANGE 1 ${last})
+  if(after_separator)
+    list(APPEND options "${CMAKE_ARGV${i}}")
+  elseif("${CMAKE_ARGV${i}}" STREQUAL "--")
+    set(after_separator TRUE)
+  endif()
+endforeach()
+file(MAKE_DIRECTORY "${OUTPUT_DIRECTORY}")
+set(outputs "")
+foreach(input IN ITEMS "${FIRST}" "${SECOND}")
+  list(LENGTH outputs index)
+  set(output "${OUTPUT_DIRECTORY}/${NAME}_${index}.mha")
+  file(REMOVE "${output}")
+  execute_process(COMMAND "${EXE}" "${input}" -o "${output}" ${options} RESULT_VARIABLE exit_code ERROR_VARIABLE err
+                  TIMEOUT 120)
+  if(NOT exit_code STREQUAL "0")
+    message(FATAL_ERROR "pbdrr ${input} ${options} failed (${exit_code}): ${err}")
+  endif()
+  list(APPEND outputs "${output}")
+endforeach()
+list(GET outputs 0 first_output)
+list(GET outputs 1 second_output)
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${first_output}" "${second_output}" RESULT_VARIABLE differ)
+if(differ)
+  message(FATAL_ERROR "${FIRST} and ${SECOND} give different images (${first_output}, ${second_output})")
+endif()
+message(STATUS "${FIRST} and ${SECOND} give the same image")
