@@ -26,6 +26,7 @@
 #include "itkPointBasedDRREnums.h"
 #include "PointBasedDRRExport.h"
 
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,12 @@ public:
    * values; unknown keys, missing or non-numeric values throw an ExceptionObject naming the line. */
   void
   ReadGeometryFile(const std::string & fileName);
+
+  /** Reads the geometry-file format from a stream, as ReadGeometryFile() does for a file (which calls this): each
+   * line is given to ParseGeometryLine(), errors name `sourceName:line: ` (or `line N: ` without a source name).
+   * Lines before an erroneous one are applied. */
+  void
+  ReadGeometry(std::istream & stream, const std::string & sourceName = "");
 
   /** Parses one geometry-file line (without the trailing newline). Throws on error. */
   void

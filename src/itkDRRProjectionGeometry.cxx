@@ -452,10 +452,17 @@ DRRProjectionGeometry::ReadGeometryFile(const std::string & fileName)
   {
     ThrowGeometryError("cannot open geometry file '" + fileName + "'");
   }
-  std::string line;
-  for (unsigned int lineNumber = 1; std::getline(file, line); ++lineNumber)
+  this->ReadGeometry(file, fileName);
+}
+
+void
+DRRProjectionGeometry::ReadGeometry(std::istream & stream, const std::string & sourceName)
+{
+  const std::string prefix = sourceName.empty() ? std::string("line ") : sourceName + ":";
+  std::string       line;
+  for (unsigned int lineNumber = 1; std::getline(stream, line); ++lineNumber)
   {
-    this->ParseGeometryLine(line, fileName + ":" + std::to_string(lineNumber) + ": ");
+    this->ParseGeometryLine(line, prefix + std::to_string(lineNumber) + ": ");
   }
 }
 

@@ -1,0 +1,66 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// Regression tests of what the fuzz targets of test/fuzz found (docs/fuzzing.md), one test per finding, and of the
+// stream form of the geometry-file reader the geometry fuzzer drives.
+
+#include "itkDRRProjectionGeometry.h"
+#include "gtest/gtest.h"
+
+#include <sstream>
+#include <string>
+
+namespace
+{
+using GeometryType = itk::DRRProjectionGeometry;
+} // namespace
+
+// ReadGeometry() reads the geometry-file format from a stream, as ReadGeometryFile() does from a file.
+TEST(PointBasedDRRFuzzRegression, ReadGeometryFromAStreamNamesTheLine)
+{
+  auto               geometry = GeometryType::New();
+  std::istringstream good("# comment\nprojection parallel\ncols 7 # seven\nrows 9\r\nspacing 0.5 2");
+  ASSERT_NO_THROW(geometry->ReadGeometry(good));
+  EXPECT_EQ(geometry->GetProjection(), itk::PointBasedDRREnums::Projection::Parallel);
+  EXPECT_EQ(geometry->GetDetectorSize()[0], 7u);
+  EXPECT_EQ(geometry->GetDetectorSize()[1], 9u);
+  EXPECT_EQ(geometry->GetDetectorSpacing()[1], 2.0);
+
+  std::istringstream bad("sad 900\n\nsid twelve\nsad 5\n");
+  try
+  {
+    geometry->ReadGeometry(bad, "view.txt");
+    FAIL() << "no exception";
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    EXPECT_NE(std::string(e.GetDescription()).find("view.txt:3: "), std::string::npos) << e.GetDescription();
+  }
+  EXPECT_EQ(geometry->GetSourceToIsocenterDistance(), 900.0); // lines before the error are applied
+
+  std::istringstream unnamed("cols 0\n");
+  try
+  {
+    geometry->ReadGeometry(unnamed);
+    FAIL() << "no exception";
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    EXPECT_NE(std::string(e.GetDescription()).find("line 1: "), std::string::npos) << e.GetDescription();
+  }
+}
