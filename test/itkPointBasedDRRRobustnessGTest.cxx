@@ -18,7 +18,8 @@
 // Robustness of the DRR filters (bad input is rejected with an exception that names the problem) and the numerical
 // extremes of DESIGN section 8 (all air, one voxel, one sample, HU extremes, anisotropic and left-handed voxels, the
 // source next to or inside the volume, the detector cutting the volume, rays far off-axis, beams along a voxel axis,
-// transforms at the edge), plus progress, abort, caching and reproducibility under a transform.
+// transforms at the edge, float HU beyond any scanner's range, 2^33 samples), plus progress, abort, caching and
+// reproducibility under a transform.
 //
 // Wherever a value is checked against the exact projector, the check is a z-test: the mean over seeds of the
 // point-based estimate against the exact filter's pixel average of k x k rays, with the standard error of the mean
@@ -31,6 +32,7 @@
 #include "itkAffineTransform.h"
 #include "itkBSplineTransform.h"
 #include "itkEuler3DTransform.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkOutputWindow.h"
 #include "vnl/vnl_det.h"
 #include "PointBasedDRRTestHelpers.h"
@@ -1179,6 +1181,137 @@ TEST(PointBasedDRRExtremes, VolumeTranslatedOutOfViewGivesExactZero)
       ASSERT_EQ(value, 0.0f) << c.name;
     }
   }
+}
+
+TEST(PointBasedDRRExtremes, MetresOfTranslationAndHalfTurnsAboutEveryAxisMatchExact)
+{
+  // The volume carried 1.5 m towards a far detector (SAD 1000 mm, SID 3000 mm, source at x = +1000) and turned by
+  // half turns about x and z and a quarter turn about y: still in the beam, 2.5 m from the source.
+  auto volume = MakeCentredVolume<HUVolumeType>({ { 8, 7, 6 } }, Vec3(1.5, 2.0, 2.5), Identity<HUVolumeType>());
+  FillPattern(volume, 11);
+  FillBlock<HUVolumeType>(volume, { { 0, 0, 0 } }, { { 2, 1, 1 } }, 2000); // not symmetric under the turns
+  auto transform = itk::Euler3DTransform<double>::New();
+  transform->SetRotation(itk::Math::pi, itk::Math::pi_over_2, -itk::Math::pi);
+  // Room -> volume, x_volume = R x_room + t: with t = R (1500, 0, 0) the volume's centre appears at x = -1500 mm.
+  transform->SetTranslation(transform->GetMatrix() * Vec3(1500.0, 0.0, 0.0));
+  auto                          geometry = MakeGeometry(1000.0, 3000.0, 0.0, 12, 12, 4.0, 4.0);
+  const Configure<HUVolumeType> withTransform = [&](FilterBase<HUVolumeType> * f) { f->SetTransform(transform); };
+  MatchOptions                  options;
+  options.AllPixels = true;
+  ExpectMatchesExact<HUVolumeType>(volume, geometry, withTransform, options, "1.5 m and half turns");
+  // The volume really is where the transform says, 2.5 m from the source: image sum * a = integral over the volume
+  // of mu w, w = (SID / z)^2 sqrt(SID^2 + u^2 + v^2) / SID, by a midpoint rule on 4^3 points per voxel placed in the
+  // room by the inverse transform (independent of the filters' projection code).
+  const auto   reference = ComputeReference<HUVolumeType>(volume, geometry, KernelEnum::Box, withTransform, 64);
+  const auto   inverse = transform->GetInverseTransform();
+  const auto   source = geometry->GetSourcePosition();
+  const auto   normal = geometry->GetNormal();
+  const double sid = 3000.0;
+  double       expected = 0.0;
+  for (itk::ImageRegionConstIteratorWithIndex<HUVolumeType> it(volume, volume->GetLargestPossibleRegion());
+       !it.IsAtEnd();
+       ++it)
+  {
+    const double mu = MuOfHU(it.Get());
+    for (unsigned int q = 0; q < 64; ++q)
+    {
+      itk::ContinuousIndex<double, 3> index;
+      index[0] = it.GetIndex()[0] - 0.375 + 0.25 * (q % 4);
+      index[1] = it.GetIndex()[1] - 0.375 + 0.25 * (q / 4 % 4);
+      index[2] = it.GetIndex()[2] - 0.375 + 0.25 * (q / 16);
+      HUVolumeType::PointType inVolume;
+      volume->TransformContinuousIndexToPhysicalPoint(index, inVolume);
+      const auto   room = inverse->TransformPoint(inVolume);
+      const auto   fromSource = room - source;
+      const double z = -(fromSource * normal);
+      const double lateral2 = fromSource.GetSquaredNorm() - z * z; // (u^2 + v^2) (z / SID)^2
+      const double w = (sid / z) * (sid / z) * std::sqrt(sid * sid + lateral2 * (sid / z) * (sid / z)) / sid;
+      expected += mu * w * (1.5 * 2.0 * 2.5) / 64.0;
+    }
+  }
+  expected /= 4.0 * 4.0;
+  EXPECT_NEAR(reference.Sum, expected, 2e-3 * expected) << "the exact image sum against a quadrature in the room";
+}
+
+TEST(PointBasedDRRExtremes, FloatHUBeyondTheScannersRangeMatchesExact)
+{
+  // Float CT (as NIfTI often is): -1e30 HU and the paddings are air; 3071, 32767 and 1e6 HU are dense metal.
+  const float extremes[8] = { -1e30f, -32768.0f, -3024.0f, -2048.0f, -1024.0f, 3071.0f, 32767.0f, 1e6f };
+  auto        volume = MakeCentredVolume<MuVolumeType>({ { 7, 6, 5 } }, Vec3(2.0, 2.0, 2.0), Identity<MuVolumeType>());
+  auto *      buffer = volume->GetBufferPointer();
+  for (size_t v = 0; v < 7 * 6 * 5; ++v)
+  {
+    buffer[v] = extremes[(v * 5 + v / 7) % 8];
+  }
+  auto         geometry = MakeGeometry(100.0, 150.0, 25.0, 16, 16, 1.5, 1.5);
+  MatchOptions options;
+  ExpectMatchesExact<MuVolumeType>(volume, geometry, nullptr, options, "float HU extremes");
+  auto drr = PointBasedFilter<MuVolumeType>::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(geometry);
+  drr->Update();
+  double mass = 0.0;
+  for (size_t v = 0; v < 7 * 6 * 5; ++v)
+  {
+    mass += MuOfHU(buffer[v]) * 8.0;
+  }
+  EXPECT_NEAR(drr->GetTotalMass(), mass, 1e-6 * mass) << "mu of the extremes: natural, air clamped to zero";
+}
+
+TEST(PointBasedDRRExtremes, TwoToTheThirtyThreeSamplesStayCountedAndUnbiased)
+{
+  // 2^33 points (more than any 32-bit counter holds, 2^29 per stratum) on a parallel view along x whose 1.5 mm pixels
+  // line up with the voxel columns, so that the exact reference is exact and every point lands with weight 1.
+  auto volume = MakeCentredVolume<HUVolumeType>({ { 8, 8, 8 } }, Vec3(1.5, 1.5, 1.5), Identity<HUVolumeType>());
+  FillPattern(volume, 12);
+  auto       geometry = MakeGeometry(100.0, 150.0, 0.0, 12, 12, 1.5, 1.5, ProjectionEnum::Parallel);
+  const auto reference = ComputeReference<HUVolumeType>(volume, geometry, KernelEnum::Box, nullptr, 2);
+
+  constexpr uint64_t samples = uint64_t{ 1 } << 33;
+  constexpr unsigned strata = 16;
+  auto               drr = PointBasedFilter<HUVolumeType>::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(geometry);
+  drr->SetSampler(itk::DRRSamplerFactory::Create("stratified"));
+  drr->SetNumberOfStrata(strata);
+  drr->SetNumberOfSamples(samples);
+  drr->SetSeed(33);
+  drr->Update();
+  EXPECT_EQ(drr->GetPointsOnDetector(), samples) << "every point lands; none lost to a 32-bit counter";
+
+  const auto values = ToVector(drr->GetOutput());
+  const auto errors = ToVector(drr->GetStandardErrorOutput());
+  // Image sum * a = M (N / N): the fixed-point sums of 2^33 contributions lose nothing beyond float output rounding.
+  const double sum = std::accumulate(values.begin(), values.end(), 0.0);
+  EXPECT_NEAR(sum * 1.5 * 1.5, drr->GetTotalMass(), 1e-6 * drr->GetTotalMass());
+  // Each pixel: a t-test of the estimate against the exact column integral with the filter's own standard error
+  // (the spread of 16 independent strata: 15 degrees of freedom, P(|t| > 6) = 2.4e-5 per pixel), floored by the
+  // float rounding of both images. The estimate is so precise here that a bias of 1e-6 would show.
+  const double peak = *std::max_element(reference.Value.begin(), reference.Value.end());
+  double       sumOfSquaredT = 0.0;
+  size_t       signalPixels = 0;
+  for (size_t p = 0; p < values.size(); ++p)
+  {
+    ASSERT_TRUE(std::isfinite(values[p]) && std::isfinite(errors[p])) << "pixel " << p;
+    if (reference.Value[p] == 0.0)
+    {
+      // Outside the shadow. The voxel faces lie on pixel edges, and the single-precision projection places a point
+      // within a float ulp of an edge (2^-24 of 6 mm, 1e-7 of a 1.5 mm pixel) on either side of it.
+      EXPECT_LT(values[p], 1e-6 * peak) << "pixel " << p << " outside the volume's shadow";
+      continue;
+    }
+    const double rounding = 2.0 * std::ldexp(reference.Value[p], -24);
+    const double t = (values[p] - reference.Value[p]) / std::sqrt(errors[p] * errors[p] + rounding * rounding);
+    EXPECT_LT(std::abs(t), 6.0) << "pixel " << p << ": " << values[p] << " vs exact " << reference.Value[p]
+                                << " (standard error " << errors[p] << ")";
+    EXPECT_LT(errors[p], 1e-5 * peak) << "pixel " << p << ": the test lost its power";
+    sumOfSquaredT += t * t;
+    ++signalPixels;
+  }
+  ASSERT_GT(signalPixels, 40u);
+  // The spread matches the standard error: the mean of t^2 is 15 / 13 for 15 degrees of freedom (less where float
+  // rounding dominates); far above, the errors are understated.
+  EXPECT_LT(sumOfSquaredT / signalPixels, 3.0) << "the standard error understates the deviations";
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
