@@ -42,7 +42,9 @@ class IntegerKeyMap
 public:
   explicit IntegerKeyMap(double offset)
     : m_Offset(offset)
-    , m_OffsetInteger(static_cast<int64_t>(offset))
+    // Read by the integer and float paths only, whose offsets are small: a volume of huge integral values (3e38 in
+    // float) has an offset no int64 holds.
+    , m_OffsetInteger(std::abs(offset) <= 4503599627370496.0 ? static_cast<int64_t>(offset) : 0)
     , m_FloatPath(std::abs(offset) <= 16777216.0 - 2.0 * (MaximumKey + 1))
     , m_FloatLowest(static_cast<float>(offset))
     , m_FloatHighest(static_cast<float>(offset + MaximumKey))

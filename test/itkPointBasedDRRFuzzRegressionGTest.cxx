@@ -19,16 +19,41 @@
 // Regression tests of what the fuzz targets of test/fuzz found (docs/fuzzing.md), one test per finding, and of the
 // stream form of the geometry-file reader the geometry fuzzer drives.
 
+#include "itkDRRAttenuationVolume.h"
 #include "itkDRRProjectionGeometry.h"
 #include "gtest/gtest.h"
 
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace
 {
 using GeometryType = itk::DRRProjectionGeometry;
+using TransferEnum = itk::PointBasedDRREnums::TransferFunction;
 } // namespace
+
+// Fuzzing found: a volume whose voxels are all one huge integral value (3e38 in float) converted its level offset to
+// int64 (undefined behaviour, UBSan: "3e+38 is outside the range of representable values of type 'long'").
+TEST(PointBasedDRRFuzzRegression, HugeIntegralVoxelsBuildLevelsWithoutOverflow)
+{
+  const itk::DRRAttenuationVolume::SizeType size = { { 1, 3, 1 } };
+  auto                                      identity = itk::DRRTransferFunction::New();
+  identity->SetMode(TransferEnum::Identity);
+
+  const std::vector<float> floats(3, 3e38f);
+  auto                     volume = itk::DRRAttenuationVolume::New();
+  ASSERT_NO_THROW(volume->Build(floats.data(), size, *identity, nullptr));
+  ASSERT_TRUE(volume->HasLevels());
+  ASSERT_EQ(volume->GetNumberOfLevels(), 1u);
+  EXPECT_EQ(volume->GetLevelMu(0), static_cast<double>(3e38f));
+
+  const std::vector<double> doubles(3, 1e20); // HU: mu 2e15 /mm, within float
+  auto                      natural = itk::DRRTransferFunction::New();
+  ASSERT_NO_THROW(volume->Build(doubles.data(), size, *natural, nullptr));
+  ASSERT_EQ(volume->GetNumberOfLevels(), 1u);
+  EXPECT_EQ(volume->GetLevelMu(0), static_cast<float>(natural->Evaluate(1e20)));
+}
 
 // ReadGeometry() reads the geometry-file format from a stream, as ReadGeometryFile() does from a file.
 TEST(PointBasedDRRFuzzRegression, ReadGeometryFromAStreamNamesTheLine)
