@@ -268,13 +268,16 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
   }
   const DRROutputConversion conversion(m_OutputMode, low, width);
 
-  const auto notFinite =
-    std::find_if(lineIntegral.begin(), lineIntegral.end(), [](double v) { return !std::isfinite(v); });
+  // A value the output pixel type cannot hold (a finite line integral of 1e44 in float) would become infinite.
+  const double largest = static_cast<double>(std::numeric_limits<OutputPixelType>::max());
+  const auto   notFinite = std::find_if(lineIntegral.begin(), lineIntegral.end(), [&](double v) {
+    return !std::isfinite(v) || !(std::abs(conversion.Value(v)) <= largest);
+  });
   if (notFinite != lineIntegral.end())
   {
-    itkExceptionMacro("the projection has a non-finite value (" << *notFinite << ") at pixel "
-                                                                << notFinite - lineIntegral.begin()
-                                                                << ": the attenuation or the geometry is out of range");
+    itkExceptionMacro("the projection has a non-finite value, or one the output pixel type cannot hold ("
+                      << *notFinite << "), at pixel " << notFinite - lineIntegral.begin()
+                      << ": the attenuation or the geometry is out of range");
   }
   OutputPixelType * values = this->AllocateOutput(0, lineIntegral.size());
   OutputPixelType * errors = standardError ? this->AllocateOutput(1, lineIntegral.size()) : nullptr;
@@ -284,6 +287,11 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
     if (errors)
     {
       const double error = conversion.Slope(lineIntegral[p]) * (*standardError)[p];
+      if (!(std::abs(error) <= largest))
+      {
+        itkExceptionMacro("the standard error at pixel " << p << " (" << error
+                                                         << ") is not finite or beyond the output pixel type");
+      }
       errors[p] =
         static_cast<OutputPixelType>(gray ? std::min(conversion.GetMaximum(), std::floor(error + 0.5)) : error);
     }

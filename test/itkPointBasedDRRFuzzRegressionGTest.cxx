@@ -21,16 +21,63 @@
 
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRProjectionGeometry.h"
+#include "itkExactDRRImageFilter.h"
+#include "itkPointBasedDRRImageFilter.h"
+#include "PointBasedDRRTestHelpers.h"
 #include "gtest/gtest.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
 
 namespace
 {
+using namespace PointBasedDRRTest;
 using GeometryType = itk::DRRProjectionGeometry;
 using TransferEnum = itk::PointBasedDRREnums::TransferFunction;
+
+template <typename TVolume>
+typename TVolume::Pointer
+MakeFilledVolume(const typename TVolume::SizeType & size, double spacing, typename TVolume::PixelType value)
+{
+  typename TVolume::SpacingType   s;
+  typename TVolume::PointType     origin;
+  typename TVolume::DirectionType direction;
+  s.Fill(spacing);
+  origin.Fill(0.0);
+  direction.SetIdentity();
+  auto volume = MakeVolume<TVolume>(size, s, origin, direction);
+  volume->FillBuffer(value);
+  return volume;
+}
+
+GeometryType::Pointer
+GeometryLookingAt(const GeometryType::PointType & isocenter, double pixelSpacing)
+{
+  auto geometry = GeometryType::New();
+  geometry->SetIsocenter(isocenter);
+  geometry->SetDetectorSize({ { 4, 4 } });
+  geometry->SetDetectorSpacing(GeometryType::DetectorVectorType(pixelSpacing));
+  return geometry;
+}
+
+template <typename TFilter>
+std::string
+UpdateError(TFilter * filter)
+{
+  try
+  {
+    filter->Update();
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    return e.GetDescription();
+  }
+  return "";
+}
 } // namespace
 
 // Fuzzing found: a volume whose voxels are all one huge integral value (3e38 in float) converted its level offset to
@@ -53,6 +100,45 @@ TEST(PointBasedDRRFuzzRegression, HugeIntegralVoxelsBuildLevelsWithoutOverflow)
   ASSERT_NO_THROW(volume->Build(doubles.data(), size, *natural, nullptr));
   ASSERT_EQ(volume->GetNumberOfLevels(), 1u);
   EXPECT_EQ(volume->GetLevelMu(0), static_cast<float>(natural->Evaluate(1e20)));
+}
+
+// Fuzzing found: a finite line integral beyond the float range (mu 3e38 /mm over 1e6 mm) was written as an infinite
+// output pixel. Both filters now refuse it, naming the output pixel type.
+TEST(PointBasedDRRFuzzRegression, LineIntegralBeyondTheOutputPixelTypeIsRefused)
+{
+  auto volume = MakeFilledVolume<MuVolumeType>({ { 2, 2, 2 } }, 1e6, 3e38f);
+  auto geometry = GeometryLookingAt(volume->GetOrigin() + itk::Vector<double, 3>(5e5), 1e6);
+  geometry->SetSourceToIsocenterDistance(1e7);
+  geometry->SetSourceToDetectorDistance(1e7);
+
+  auto exact = itk::ExactDRRImageFilter<MuVolumeType, ProjectionType>::New();
+  exact->SetInput(volume);
+  exact->SetGeometry(geometry);
+  exact->GetTransferFunction()->SetMode(TransferEnum::Identity);
+  const std::string exactError = UpdateError(exact.GetPointer());
+  EXPECT_NE(exactError.find("output pixel type"), std::string::npos) << exactError;
+
+  auto drr = itk::PointBasedDRRImageFilter<MuVolumeType, ProjectionType>::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(geometry);
+  drr->GetTransferFunction()->SetMode(TransferEnum::Identity);
+  drr->SetNumberOfSamples(1000);
+  const std::string drrError = UpdateError(drr.GetPointer());
+  EXPECT_NE(drrError.find("output pixel type"), std::string::npos) << drrError;
+
+  // The same volume in double output fits.
+  auto exactDouble = itk::ExactDRRImageFilter<MuVolumeType, itk::Image<double, 2>>::New();
+  exactDouble->SetInput(volume);
+  exactDouble->SetGeometry(geometry);
+  exactDouble->GetTransferFunction()->SetMode(TransferEnum::Identity);
+  ASSERT_EQ(UpdateError(exactDouble.GetPointer()), "");
+  double largest = 0.0;
+  for (const double value : ToVector(exactDouble->GetOutput()))
+  {
+    EXPECT_TRUE(std::isfinite(value) && value >= 0.0) << value;
+    largest = std::max(largest, value);
+  }
+  EXPECT_GT(largest, static_cast<double>(std::numeric_limits<float>::max()));
 }
 
 // ReadGeometry() reads the geometry-file format from a stream, as ReadGeometryFile() does from a file.
