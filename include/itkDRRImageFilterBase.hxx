@@ -270,7 +270,12 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
 
   // A value the output pixel type cannot hold (a finite line integral of 1e44 in float) would become infinite.
   const double largest = static_cast<double>(std::numeric_limits<OutputPixelType>::max());
-  const auto   notFinite = std::find_if(lineIntegral.begin(), lineIntegral.end(), [&](double v) {
+  if (gray && conversion.GetMaximum() > largest)
+  {
+    itkExceptionMacro("the output pixel type cannot hold the gray levels of " << m_OutputMode << " (up to "
+                                                                              << conversion.GetMaximum() << ")");
+  }
+  const auto notFinite = std::find_if(lineIntegral.begin(), lineIntegral.end(), [&](double v) {
     return !std::isfinite(v) || !(std::abs(conversion.Value(v)) <= largest);
   });
   if (notFinite != lineIntegral.end())

@@ -37,6 +37,7 @@ namespace
 {
 using namespace PointBasedDRRTest;
 using GeometryType = itk::DRRProjectionGeometry;
+using OutputModeEnum = itk::PointBasedDRREnums::OutputMode;
 using TransferEnum = itk::PointBasedDRREnums::TransferFunction;
 
 template <typename TVolume>
@@ -139,6 +140,21 @@ TEST(PointBasedDRRFuzzRegression, LineIntegralBeyondTheOutputPixelTypeIsRefused)
     largest = std::max(largest, value);
   }
   EXPECT_GT(largest, static_cast<double>(std::numeric_limits<float>::max()));
+}
+
+// Found while extending the filter fuzzer to unsigned char output (its seed gray16_unsigned_char_refused): Gray16
+// levels (up to 65535) were cast to unsigned char, undefined behaviour (UBSan: "264 is outside the range of
+// representable values of type unsigned char"). Refused now, naming the output pixel type.
+TEST(PointBasedDRRFuzzRegression, Gray16IntoUnsignedCharIsRefused)
+{
+  auto volume = MakeFilledVolume<HUVolumeType>({ { 4, 4, 4 } }, 1.0, 0);
+  auto exact = itk::ExactDRRImageFilter<HUVolumeType, itk::Image<unsigned char, 2>>::New();
+  exact->SetInput(volume);
+  exact->SetGeometry(GeometryLookingAt(volume->GetOrigin() + itk::Vector<double, 3>(1.5), 2.0));
+  exact->SetOutputMode(OutputModeEnum::Gray16);
+  EXPECT_NE(UpdateError(exact.GetPointer()).find("output pixel type"), std::string::npos);
+  exact->SetOutputMode(OutputModeEnum::Gray8);
+  EXPECT_EQ(UpdateError(exact.GetPointer()), "");
 }
 
 // ReadGeometry() reads the geometry-file format from a stream, as ReadGeometryFile() does from a file.
