@@ -60,8 +60,17 @@ public:
   {
     m_Position = 132;
     std::string syntax;
-    while (m_Position + 4 <= m_Size && PeekGroup() == 0x0002)
+    for (;;)
     {
+      if (m_Position + 4 > m_Size)
+      {
+        // The file ends inside the meta group, or right after it with nothing to read: GDCM asserts on both.
+        Need(8, "the file meta information");
+      }
+      if (PeekGroup() != 0x0002)
+      {
+        break;
+      }
       uint16_t group, element;
       uint32_t length;
       ReadExplicitHeader(group, element, length);
@@ -78,6 +87,10 @@ public:
     while (!syntax.empty() && (syntax.back() == '\0' || syntax.back() == ' '))
     {
       syntax.pop_back();
+    }
+    if (syntax.empty())
+    {
+      throw Truncated{ "the file meta information has no transfer syntax (0002,0010)" };
     }
     return syntax;
   }
@@ -310,7 +323,7 @@ FindDicomTruncation(const std::string & path)
   {
     HeaderWalker      walker(stream, size);
     const std::string syntax = walker.WalkMetaGroup();
-    if (syntax == "1.2.840.10008.1.2.2" || syntax == "1.2.840.10008.1.2.1.99" || syntax.empty())
+    if (syntax == "1.2.840.10008.1.2.2" || syntax == "1.2.840.10008.1.2.1.99")
     {
       return ""; // big endian or deflated: GDCM's business
     }

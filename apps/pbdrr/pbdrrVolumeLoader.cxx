@@ -405,8 +405,22 @@ ClassifyFile(const std::string & file)
   {
     return DicomContent::Damaged;
   }
-  return reader.GetFile().GetDataSet().FindDataElement(gdcm::Tag(0x7fe0, 0x0010)) ? DicomContent::Image
-                                                                                  : DicomContent::NoImage;
+  const gdcm::DataSet & dataSet = reader.GetFile().GetDataSet();
+  if (dataSet.FindDataElement(gdcm::Tag(0x7fe0, 0x0010)))
+  {
+    return DicomContent::Image;
+  }
+  // No pixel data. Every DICOM object names its SOP class; a CT image without pixels is a file cut short at an
+  // element boundary (its header walks clean), not a report.
+  std::string sopClass, modality;
+  if (!StringValue(dataSet, gdcm::Tag(0x0008, 0x0016), sopClass))
+  {
+    return DicomContent::Damaged;
+  }
+  StringValue(dataSet, gdcm::Tag(0x0008, 0x0060), modality);
+  const bool ctImage = sopClass.rfind("1.2.840.10008.5.1.4.1.1.2", 0) == 0 || modality.rfind("CT", 0) == 0 ||
+                       dataSet.FindDataElement(gdcm::Tag(0x0028, 0x0010));
+  return ctImage ? DicomContent::Damaged : DicomContent::NoImage;
 }
 
 std::string
@@ -488,7 +502,7 @@ RefuseTruncatedFiles(const std::string & directory)
   if (!truncated.empty())
   {
     Fail(std::to_string(truncated.size()) + " DICOM file(s) in " + directory +
-         " are truncated: " + JoinNames(truncated) + " (" + first +
+         " are truncated or damaged: " + JoinNames(truncated) + " (" + first +
          "); pbdrr does not render a series with a slice cut short or left out: repair or remove them");
   }
 }
@@ -639,7 +653,7 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
     const auto files = names->GetFileNames(s);
     taken.insert(files.begin(), files.end());
   }
-  std::vector<std::string> damaged, withoutImage, otherImages;
+  std::vector<std::string> damaged, withoutImage, otherImages, notDicom;
   std::vector<std::string> entries;
   for (const auto & entry : std::filesystem::directory_iterator(directory))
   {
@@ -663,6 +677,7 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
         otherImages.push_back(file);
         break;
       case DicomContent::NotDicom:
+        notDicom.push_back(file);
         break;
     }
   }
@@ -729,8 +744,19 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
   else
   {
     GdcmWarningCapture warnings;
-    const double       spacing = CheckSliceStack(ScanSeries(files), "the series").Spacing;
-    auto               reader = itk::ImageSeriesReader<VolumeType>::New();
+    double             spacing = 1.0;
+    try
+    {
+      spacing = CheckSliceStack(ScanSeries(files), "the series").Spacing;
+    }
+    catch (const std::runtime_error & e)
+    {
+      // A slice cut to a few bytes no longer looks like DICOM: name such files beside the gap they leave.
+      Fail(e.what() + (notDicom.empty() ? std::string()
+                                        : " (" + directory + " also holds " + std::to_string(notDicom.size()) +
+                                            " file(s) that are not DICOM: " + JoinNames(notDicom) + ")"));
+    }
+    auto reader = itk::ImageSeriesReader<VolumeType>::New();
     reader->SetImageIO(itk::GDCMImageIO::New());
     reader->SetFileNames(files);
     reader->Update();
@@ -767,7 +793,7 @@ LoadVolume(const std::string & input, const std::string & seriesUID)
       const std::string truncation = FindDicomTruncation(input);
       if (!truncation.empty())
       {
-        Fail("cannot read " + input + ": the DICOM file is truncated (" + truncation + ")");
+        Fail("cannot read " + input + ": the DICOM file is truncated or damaged (" + truncation + ")");
       }
       auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::IOFileModeEnum::ReadMode);
       if (!io)
