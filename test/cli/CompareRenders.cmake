@@ -5,16 +5,8 @@
 #
 # Used with --exact: two files that hold the same volume in different layouts must give the same radiograph.
 cmake_minimum_required(VERSION 3.16)
-set(options "")
-set(after_separator FALSE)
-math(EXPR last "${CMAKE_ARGC} - 1")
-foreach(i RANGE 1 ${last})
-  if(after_separator)
-    list(APPEND options "${CMAKE_ARGV${i}}")
-  elseif("${CMAKE_ARGV${i}}" STREQUAL "--")
-    set(after_separator TRUE)
-  endif()
-endforeach()
+include(${CMAKE_CURRENT_LIST_DIR}/ArgumentsAfterSeparator.cmake)
+pbdrr_arguments_after_separator(options)
 file(MAKE_DIRECTORY "${OUTPUT_DIRECTORY}")
 set(outputs "")
 foreach(input IN ITEMS "${FIRST}" "${SECOND}")

@@ -1,0 +1,15 @@
+# pbdrr_arguments_after_separator(OUT): the script's command-line arguments after "--" (cmake -P script.cmake -- ...),
+# which is how add_test hands a list to a CMake script best.
+function(pbdrr_arguments_after_separator out)
+  set(arguments "")
+  set(after_separator FALSE)
+  math(EXPR last "${CMAKE_ARGC} - 1")
+  foreach(i RANGE 1 ${last})
+    if(after_separator)
+      list(APPEND arguments "${CMAKE_ARGV${i}}")
+    elseif("${CMAKE_ARGV${i}}" STREQUAL "--")
+      set(after_separator TRUE)
+    endif()
+  endforeach()
+  set(${out} "${arguments}" PARENT_SCOPE)
+endfunction()
