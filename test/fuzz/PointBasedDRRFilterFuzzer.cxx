@@ -241,7 +241,7 @@ DecodeVolume(Reader & reader, bool floatVoxels)
   typename TVolume::SizeType size;
   for (unsigned a = 0; a < 3; ++a)
   {
-    size[a] = 1 + reader.Choice("size", 8);
+    size[a] = 1 + reader.Choice("size-1", 8);
   }
   typename TVolume::SpacingType spacing;
   for (unsigned a = 0; a < 3; ++a)
@@ -332,7 +332,7 @@ DecodeTransferFunction(Reader & reader, itk::DRRTransferFunction * transfer)
     case 4:
     {
       itk::DRRTransferFunction::PointListType points;
-      const unsigned                          count = 1 + reader.Choice("points", 4);
+      const unsigned                          count = 1 + reader.Choice("points-1", 4);
       double                                  value = -1000.0;
       for (unsigned i = 0; i < count; ++i)
       {
@@ -505,8 +505,8 @@ DecodeGeometry(Reader & reader, GeometryType * geometry, const VolumeBox & box)
   }
 
   GeometryType::DetectorSizeType size;
-  size[0] = 1 + reader.Choice("cols", 16);
-  size[1] = 1 + reader.Choice("rows", 16);
+  size[0] = 1 + reader.Choice("cols-1", 16);
+  size[1] = 1 + reader.Choice("rows-1", 16);
   geometry->SetDetectorSize(size);
   GeometryType::DetectorVectorType spacing;
   switch (reader.Choice("detectorSpacing", 3))
@@ -608,16 +608,18 @@ struct Settings
 Settings
 DecodeSettings(Reader & reader)
 {
-  Settings s;
-  s.Sampler = reader.Choice("sampler", static_cast<unsigned>(itk::DRRSamplerFactory::GetEntries().size()));
+  Settings     s;
+  const auto & samplers = itk::DRRSamplerFactory::GetEntries();
+  s.Sampler = reader.Choice("sampler", static_cast<unsigned>(samplers.size()));
+  reader.Note("(" + samplers[s.Sampler].Name + ")");
   s.Kernel = reader.Flag("tent") ? Enums::ReconstructionKernel::Tent : Enums::ReconstructionKernel::Box;
   s.Splat = reader.Flag("bilinear") ? Enums::Splat::Bilinear : Enums::Splat::Nearest;
   s.Weighting = reader.Flag("paperCount") ? Enums::PointWeighting::PaperCount : Enums::PointWeighting::Unbiased;
   const unsigned strata = reader.Choice("strataKind", 4);
-  s.Strata = strata == 0 ? 0 : strata == 1 ? 2 : strata == 2 ? 256 : 2 + reader.Choice("strata", 255);
+  s.Strata = strata == 0 ? 0 : strata == 1 ? 2 : strata == 2 ? 256 : 2 + reader.Choice("strata-2", 255);
   s.Seed = reader.Choice("seed", 65536);
   const unsigned samples = reader.Choice("samplesKind", 4);
-  s.Samples = samples == 0 ? 1000 : samples == 1 ? 1 : samples == 2 ? 5000 : 1 + reader.Choice("samples", 5000);
+  s.Samples = samples == 0 ? 1000 : samples == 1 ? 1 : samples == 2 ? 5000 : 1 + reader.Choice("samples-1", 5000);
   s.OutputMode = static_cast<Enums::OutputMode>(reader.Choice("outputMode", 4));
   if (reader.Flag("window"))
   {
@@ -625,11 +627,11 @@ DecodeSettings(Reader & reader)
     s.WindowWidth = reader.Real("width", { 2.0, 0.0, -1.0, nan, inf, 1e-300 }, 0.0, 10.0);
   }
   s.Reuse = reader.Flag("reuse");
-  s.Threads = 1 + reader.Choice("threads", 3);
-  s.RaysPerPixelSide = 1 + reader.Choice("raysPerPixelSide", 2);
+  s.Threads = 1 + reader.Choice("threads-1", 3);
+  s.RaysPerPixelSide = 1 + reader.Choice("raysPerPixelSide-1", 2);
   if (reader.Flag("refine"))
   {
-    s.RefineSamples = 1 + reader.Choice("refineSamples", 2000);
+    s.RefineSamples = 1 + reader.Choice("refineSamples-1", 2000);
   }
   if (s.Reuse)
   {
