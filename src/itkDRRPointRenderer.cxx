@@ -29,8 +29,11 @@
 #include <memory>
 
 // Clones of the hot loop for wider vectors, picked once for the CPU at load time. Every clone gives the same bits:
-// contraction into FMA is off (-ffp-contract=off) and every operation used is correctly rounded.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+// contraction into FMA is off (-ffp-contract=off) and every operation used is correctly rounded. Not under
+// ThreadSanitizer: the clones' resolver runs while the loader relocates the program, before TSan's runtime has
+// started, and GCC instruments it (a crash at load, before main).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&                           \
+  !defined(__SANITIZE_THREAD__)
 #define PointBasedDRR_VECTOR_CLONES __attribute__((target_clones("default", "avx2", "avx512f"), flatten))
 #else
 #define PointBasedDRR_VECTOR_CLONES
