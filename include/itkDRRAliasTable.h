@@ -30,6 +30,7 @@ namespace itk
  * \brief Walker's alias method (Vose's construction): draws an index with probability proportional to its weight in
  * O(1) from 64 random bits. Probabilities are held to 2^-32.
  *
+ * \sa DRRLevelAliasSampler
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRAliasTable
@@ -48,6 +49,7 @@ public:
     return thresholdBits < m_Threshold[bucket] ? bucket : m_Alias[bucket];
   }
 
+  /** Bytes held by the table: two 32-bit words per index. */
   size_t
   GetSizeInBytes() const
   {

@@ -34,6 +34,7 @@ namespace itk
  * with log2 mu piecewise linearly), and a voxel drawn uniformly from its level needs the correction weight
  * mu_v / (mean mu of the level) to stay exact. Memory: 4 bytes per non-air voxel and 28 per level.
  *
+ * \sa DRRLevelSampler, DRRAttenuationVolume
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRAttenuationLevels
@@ -44,16 +45,19 @@ public:
   void
   Build(const DRRAttenuationVolume & volume, unsigned int numberOfBins);
 
+  /** Number of non-empty levels. */
   size_t
   GetNumberOfLevels() const
   {
     return m_Count.size();
   }
+  /** Number of voxels of a level. */
   uint32_t
   GetCount(size_t level) const
   {
     return m_Count[level];
   }
+  /** Mean mu of the voxels of a level, 1/mm (every voxel's mu, for a volume of levels). */
   double
   GetMeanMu(size_t level) const
   {
@@ -95,6 +99,7 @@ public:
   {
     return m_Uniform ? 1.0 : static_cast<double>(m_Mu[voxel]) / m_MeanMu[level];
   }
+  /** Largest GetCorrection() over the voxels: 1 when levels are uniform. */
   double
   GetMaximumCorrection() const
   {

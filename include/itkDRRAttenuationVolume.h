@@ -55,6 +55,7 @@ class DRRTransferFunction;
  * (GetNumberOfBlocks(), GetBlockBegin()) that depends on the size alone, never on the threads; per-block results are
  * merged in block order, so the volume, its levels and its sums are the same bits on any number of threads.
  *
+ * \sa DRRImageFilterBase::GetAttenuationVolume(), DRRTransferFunction, DRRAttenuationLevels
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRAttenuationVolume : public Object
@@ -62,16 +63,24 @@ class PointBasedDRR_EXPORT DRRAttenuationVolume : public Object
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRAttenuationVolume);
 
+  /** Standard class type aliases. */
   using Self = DRRAttenuationVolume;
   using Superclass = Object;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
+  /** Grid size in voxels (x, y, z). */
   using SizeType = std::array<uint64_t, 3>;
+  /** The index-to-physical matrix, mm per index. */
   using MatrixType = Matrix<double, 3, 3>;
+  /** A physical point, mm. */
   using PointType = Point<double, 3>;
+  /** A task run for each block of voxels by ParallelizeBlocks(). */
   using BlockFunctionType = std::function<void(uint64_t block)>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRAttenuationVolume, Object);
 
   /** Builds the volume from input values (size[0] x size[1] x size[2], x fastest) through a transfer function, on
@@ -86,11 +95,13 @@ public:
         const DRRTransferFunction & transfer,
         MultiThreaderBase *         threader);
 
+  /** Grid size in voxels (x, y, z). */
   const SizeType &
   GetSize() const
   {
     return m_Size;
   }
+  /** Number of voxels, size[0] x size[1] x size[2]. */
   uint64_t
   GetNumberOfVoxels() const
   {
@@ -155,6 +166,7 @@ public:
   {
     return ComputeNumberOfBlocks(this->GetNumberOfVoxels());
   }
+  /** First voxel (linear index) of a block; GetBlockBegin(GetNumberOfBlocks()) is the number of voxels. */
   uint64_t
   GetBlockBegin(uint64_t block) const
   {
@@ -173,11 +185,13 @@ public:
   /** Index-to-physical mapping: physical = origin + matrix * continuous index (mm). */
   void
   SetIndexToPhysical(const MatrixType & indexToPhysical, const PointType & origin);
+  /** Index-to-physical matrix (direction * diag(spacing)), mm per index. */
   const MatrixType &
   GetIndexToPhysicalMatrix() const
   {
     return m_IndexToPhysical;
   }
+  /** Physical position of the centre of voxel (0, 0, 0), mm. */
   const PointType &
   GetOrigin() const
   {

@@ -32,10 +32,14 @@ namespace itk
  */
 struct DRRBilinearSplat
 {
-  static constexpr double       Reach = 1.0;
+  /** The pixel centres a point reaches are less than 1 pixel away from it along each axis. */
+  static constexpr double Reach = 1.0;
+  /** A point is shared among up to 4 pixels. */
   static constexpr unsigned int Corners = 4;
 
-  /** TReal: double (the render that draws), or float (the render of a kept cloud, twice the lanes). */
+  /** The four pixels around (column, row) (continuous pixel indices, centres at integers) and their bilinear shares,
+   * pixel -1 and share 0 for those off the detector. TReal: double (the render that draws), or float (the render of a
+   * kept cloud, twice the lanes). */
   template <typename TReal>
   static void
   Locate(TReal column, TReal row, int32_t columns, int32_t rows, int32_t pixel[Corners], TReal share[Corners])

@@ -33,8 +33,10 @@ namespace itk
  */
 struct DRRBoxKernel
 {
+  /** A point stays within half a voxel of its voxel centre along each axis. */
   static constexpr double Reach = 0.5;
 
+  /** Offset along one axis, voxels: uniform in [-0.5, 0.5) from 32 random bits. */
   static double
   Offset(uint32_t bits)
   {

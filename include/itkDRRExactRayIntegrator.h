@@ -39,13 +39,16 @@ namespace itk
  * A pixel value is the average of k x k rays through the centres of a regular k x k subdivision of the pixel (the
  * midpoint rule for the pixel-area average; exact in the limit, and for k = 1 the classic one ray per pixel).
  *
+ * \sa ExactDRRImageFilter
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRExactRayIntegrator
 {
 public:
+  /** Box (Siddon) or Tent (trilinear) voxel model. */
   using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
 
+  /** Integrates through the box or tent model of a volume, which must outlive the integrator (it is not copied). */
   DRRExactRayIntegrator(const DRRAttenuationVolume & volume, KernelEnum kernel);
 
   /** Integral of mu over the parameter t in [0, 1] of the segment p0 -> p1 (continuous index coordinates): multiply
@@ -57,7 +60,9 @@ public:
   double
   IntegrateRay(const DRRPointProjection & projection, double column, double row) const;
 
-  /** The projection image (cols x rows, columns fastest): the average of raysPerSide^2 rays per pixel. */
+  /** The projection image (cols x rows, columns fastest; dimensionless line integrals): the average of raysPerSide^2
+   * rays per pixel, on the threads of threader (not null), reporting progress to progressFilter (may be null), which
+   * is also checked for abort. */
   std::vector<double>
   RenderProjection(const DRRPointProjection & projection,
                    unsigned int               raysPerSide,

@@ -47,6 +47,7 @@ namespace itk
  * The attenuation volume (mu per voxel) is computed once per input and transfer function and reused across updates
  * that change only the geometry or transform, as registration does.
  *
+ * \sa PointBasedDRRImageFilter, ExactDRRImageFilter, DRRProjectionGeometry, DRRTransferFunction
  * \ingroup PointBasedDRR
  */
 template <typename TInputImage, typename TOutputImage>
@@ -55,50 +56,79 @@ class ITK_TEMPLATE_EXPORT DRRImageFilterBase : public ImageToImageFilter<TInputI
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRImageFilterBase);
 
+  /** Standard class type aliases. */
   using Self = DRRImageFilterBase;
   using Superclass = ImageToImageFilter<TInputImage, TOutputImage>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRImageFilterBase, ImageToImageFilter);
 
+  /** The 3D volume: HU, or mu in 1/mm (any scalar pixel type). */
   using InputImageType = TInputImage;
+  /** Voxel type of the volume. */
   using InputPixelType = typename InputImageType::PixelType;
+  /** The projection: 2D, or 3D with one slice. */
   using OutputImageType = TOutputImage;
+  /** Pixel type of the projection (a float type for line integrals; integers hold gray levels). */
   using OutputPixelType = typename OutputImageType::PixelType;
+  /** Region of the projection. */
   using OutputImageRegionType = typename OutputImageType::RegionType;
+  /** The optional linear room -> volume transform. */
   using TransformType = Transform<double, 3, 3>;
+  /** The projection geometry. */
   using GeometryType = DRRProjectionGeometry;
+  /** Input value -> mu (1/mm). */
   using TransferFunctionType = DRRTransferFunction;
+  /** What the output pixels hold. */
   using OutputModeEnum = PointBasedDRREnums::OutputMode;
 
+  /** Dimension of the input volume: 3. */
   static constexpr unsigned int InputImageDimension = TInputImage::ImageDimension;
+  /** Dimension of the output: 2, or 3 for a one-slice image placed in the room. */
   static constexpr unsigned int OutputImageDimension = TOutputImage::ImageDimension;
   static_assert(InputImageDimension == 3, "DRR filters take a 3D volume");
   static_assert(OutputImageDimension == 2 || OutputImageDimension == 3,
                 "DRR filters write a 2D image or a 3D image with one slice");
   static_assert(std::is_arithmetic<InputPixelType>::value, "DRR filters take scalar voxels");
 
+  ///@{
   /** The projection geometry. A default one (perspective, SAD 1000 mm, SID 1500 mm, 256 x 256 at 1 mm) exists. */
   itkSetObjectMacro(Geometry, GeometryType);
   itkGetModifiableObjectMacro(Geometry, GeometryType);
+  ///@}
 
-  /** Optional linear transform, room -> volume physical frame. */
+  ///@{
+  /** Optional linear transform, room -> volume physical frame (null, the default: the identity). */
   itkSetConstObjectMacro(Transform, TransformType);
   itkGetConstObjectMacro(Transform, TransformType);
+  ///@}
 
+  ///@{
   /** Input value -> mu (1/mm). Default: natural, 60 keV. */
   itkSetObjectMacro(TransferFunction, TransferFunctionType);
   itkGetModifiableObjectMacro(TransferFunction, TransferFunctionType);
+  ///@}
 
+  ///@{
+  /** What the output pixels hold: LineIntegral (default), Transmission, Gray8 or Gray16. */
   itkSetEnumMacro(OutputMode, OutputModeEnum);
   itkGetConstMacro(OutputMode, OutputModeEnum);
+  ///@}
 
-  /** Gray-level window, line-integral units. Width 0 (default): the image's own minimum to maximum. */
+  ///@{
+  /** Centre of the gray-level window (Gray8, Gray16), line-integral units (dimensionless). Default 0; not used while
+   * the width is 0. */
   itkSetMacro(WindowLevel, double);
   itkGetConstMacro(WindowLevel, double);
+  ///@}
+  ///@{
+  /** Width of the gray-level window, line-integral units. 0 (the default) or less: the window is the image's own
+   * minimum to maximum. */
   itkSetMacro(WindowWidth, double);
   itkGetConstMacro(WindowWidth, double);
+  ///@}
 
   /** The attenuation model of the current input (built on demand). */
   const DRRAttenuationVolume *
@@ -112,10 +142,13 @@ protected:
   DRRImageFilterBase();
   ~DRRImageFilterBase() override = default;
 
+  /** Output size, spacing, origin and direction from the geometry (see DRRProjectionGeometry). */
   void
   GenerateOutputInformation() override;
+  /** Requests the whole input: any voxel may project anywhere. */
   void
   GenerateInputRequestedRegion() override;
+  /** Generates the whole output: every point may land on any pixel. */
   void
   EnlargeOutputRequestedRegion(DataObject * output) override;
   /** Input and output live in different spaces: nothing to compare. */

@@ -35,6 +35,9 @@ namespace itk
  * Without (non-integer input), mu is binned into levels and each sample carries the exact correction
  * mu_v / mean mu of its level, so the estimate stays unbiased; the volume is then read at sample time.
  *
+ * The default sampler of PointBasedDRRImageFilter (`level-alias` in DRRSamplerFactory).
+ *
+ * \sa DRRAliasTable, DRRAttenuationLevels, DRRStratifiedSampler
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRLevelAliasSampler : public DRRLevelSampler
@@ -42,12 +45,16 @@ class PointBasedDRR_EXPORT DRRLevelAliasSampler : public DRRLevelSampler
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRLevelAliasSampler);
 
+  /** Standard class type aliases. */
   using Self = DRRLevelAliasSampler;
   using Superclass = DRRLevelSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRLevelAliasSampler, DRRLevelSampler);
 
   void

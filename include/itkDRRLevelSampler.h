@@ -27,6 +27,7 @@ namespace itk
  * \brief Base of the samplers that draw a level, then a voxel uniformly inside it (the paper's hist[l]): holds the
  * levels and builds them, with the total mass and the largest binning correction, in InitializeLevels().
  *
+ * \sa DRRAttenuationLevels, DRRLevelAliasSampler, DRRMetropolisSampler, DRRPaperHybridSampler
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRLevelSampler : public DRRPointSampler
@@ -34,16 +35,20 @@ class PointBasedDRR_EXPORT DRRLevelSampler : public DRRPointSampler
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRLevelSampler);
 
+  /** Standard class type aliases. */
   using Self = DRRLevelSampler;
   using Superclass = DRRPointSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRLevelSampler, DRRPointSampler);
 
+  ///@{
   /** Number of levels mu is binned into for volumes without levels (non-integer input), 1 .. 2^24. Default 4096. */
   itkSetClampMacro(NumberOfBins, unsigned int, 1, 1u << 24);
   itkGetConstMacro(NumberOfBins, unsigned int);
+  ///@}
 
   /** Number of non-empty levels. */
   size_t
@@ -73,6 +78,7 @@ protected:
     os << indent << "NumberOfLevels: " << m_Levels.GetNumberOfLevels() << std::endl;
   }
 
+  /** The levels of the volume the sampler was initialized with. */
   DRRAttenuationLevels m_Levels;
 
 private:

@@ -35,6 +35,9 @@ namespace itk
  * includes the correlation. GetAutocorrelationTime() is the chain's integrated autocorrelation time of the sampled
  * mu (from batch means over 2^20 steps): the factor by which it needs more points than independent sampling.
  *
+ * `metropolis` in DRRSamplerFactory; rendered as 16 strata by default (GetPreferredNumberOfStrata()).
+ *
+ * \sa DRRLevelAliasSampler (the same law, drawn independently), DRRPaperHybridSampler
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRMetropolisSampler : public DRRLevelSampler
@@ -42,17 +45,23 @@ class PointBasedDRR_EXPORT DRRMetropolisSampler : public DRRLevelSampler
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRMetropolisSampler);
 
+  /** Standard class type aliases. */
   using Self = DRRMetropolisSampler;
   using Superclass = DRRLevelSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRMetropolisSampler, DRRLevelSampler);
 
+  ///@{
   /** Steps discarded at the start of every chain. Default 0 (the chain starts in its stationary law). */
   itkSetMacro(BurnIn, unsigned int);
   itkGetConstMacro(BurnIn, unsigned int);
+  ///@}
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;

@@ -35,10 +35,14 @@ namespace itk
  */
 struct DRRNearestSplat
 {
-  static constexpr double       Reach = 0.5;
+  /** The pixel centre a point reaches is at most half a pixel away from it along each axis. */
+  static constexpr double Reach = 0.5;
+  /** A point goes to one pixel. */
   static constexpr unsigned int Corners = 1;
 
-  /** TReal: double (the render that draws), or float (the render of a kept cloud, twice the lanes). */
+  /** The pixel that contains (column, row) (continuous pixel indices, centres at integers), with share 1; pixel -1
+   * and share 0 off the detector. TReal: double (the render that draws), or float (the render of a kept cloud, twice
+   * the lanes). */
   template <typename TReal>
   static void
   Locate(TReal column, TReal row, int32_t columns, int32_t rows, int32_t pixel[Corners], TReal share[Corners])

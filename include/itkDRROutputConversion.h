@@ -33,11 +33,13 @@ namespace itk
  * level + width / 2] mapped onto 0 .. 255 or 0 .. 65535 and rounded, bright = attenuating; slope levels per unit of L
  * inside the window, 0 where clamped.
  *
+ * \sa DRRImageFilterBase::SetOutputMode()
  * \ingroup PointBasedDRR
  */
 class DRROutputConversion
 {
 public:
+  /** What the output pixels hold. */
   using OutputModeEnum = PointBasedDRREnums::OutputMode;
 
   /** The gray window starts at windowLow (= level - width / 2) and spans width > 0 (unused by the other modes). */
@@ -45,6 +47,7 @@ public:
     : m_Mode(mode), m_Low(windowLow), m_Width(width), m_Maximum(mode == OutputModeEnum::Gray8 ? 255.0 : 65535.0)
   {}
 
+  /** True for Gray8 and Gray16. */
   bool
   IsGray() const
   {
@@ -57,6 +60,7 @@ public:
     return m_Maximum;
   }
 
+  /** The value the mode stores for a line integral L: L, exp(-L), or a gray level (rounded, clamped to the window). */
   double
   Value(double lineIntegral) const
   {
@@ -71,6 +75,8 @@ public:
     return lineIntegral;
   }
 
+  /** d(value)/dL at L: 1, exp(-L), or gray levels per unit of L (0 outside the window), the factor that carries a
+   * standard error of L through the mode. */
   double
   Slope(double lineIntegral) const
   {

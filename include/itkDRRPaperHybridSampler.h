@@ -34,6 +34,9 @@ namespace itk
  * approximation. SetUseExactWeights(false) gives the paper's unweighted count, which is biased towards small,
  * dense levels.
  *
+ * `paper-hybrid` in DRRSamplerFactory.
+ *
+ * \sa DRRLevelAliasSampler (exact importance sampling without rejection), DRRMetropolisSampler
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRPaperHybridSampler : public DRRLevelSampler
@@ -41,22 +44,30 @@ class PointBasedDRR_EXPORT DRRPaperHybridSampler : public DRRLevelSampler
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRPaperHybridSampler);
 
+  /** Standard class type aliases. */
   using Self = DRRPaperHybridSampler;
   using Superclass = DRRLevelSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRPaperHybridSampler, DRRLevelSampler);
 
+  ///@{
   /** Russian roulette survival probability q in [0, 1]. Default 0.1. */
   itkSetClampMacro(RouletteSurvival, double, 0.0, 1.0);
   itkGetConstMacro(RouletteSurvival, double);
+  ///@}
 
+  ///@{
   /** Exact importance weights (default) or the paper's weight 1 for every point. */
   itkSetMacro(UseExactWeights, bool);
   itkGetConstMacro(UseExactWeights, bool);
   itkBooleanMacro(UseExactWeights);
+  ///@}
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;

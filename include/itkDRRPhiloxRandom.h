@@ -30,13 +30,16 @@ namespace itk
  * depend on which thread draws them or in what order chunks run, which is what makes a seeded DRR the same bit for
  * bit on any number of threads.
  *
+ * \sa DRRPointRenderer
  * \ingroup PointBasedDRR
  */
 class DRRPhiloxRandom
 {
 public:
+  /** 128 random bits: four 32-bit words. */
   using BlockType = std::array<uint32_t, 4>;
 
+  /** The stream of a seed, a chunk (of samples) and a stream id (what the numbers are for), at its first position. */
   DRRPhiloxRandom(uint64_t seed, uint64_t chunk, uint32_t streamId)
     : m_Key{ { static_cast<uint32_t>(seed), static_cast<uint32_t>(seed >> 32) } }
     , m_Counter{ { 0u, streamId, static_cast<uint32_t>(chunk), static_cast<uint32_t>(chunk >> 32) } }
@@ -73,6 +76,7 @@ public:
     return static_cast<uint32_t>((static_cast<uint64_t>(bits) * n) >> 32);
   }
 
+  /** The Philox4x32-10 block function: 128 random bits for a counter and a 64-bit key (10 rounds). */
   static BlockType
   Philox(BlockType counter, std::array<uint32_t, 2> key)
   {

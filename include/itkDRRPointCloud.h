@@ -43,6 +43,7 @@ namespace itk
  *
  * Built by DRRPointRenderer::Draw(); rendered by DRRPointRenderer::Render(cloud, ...).
  *
+ * \sa PointBasedDRRImageFilter::SetReusePoints()
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRPointCloud : public Object
@@ -50,46 +51,54 @@ class PointBasedDRR_EXPORT DRRPointCloud : public Object
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRPointCloud);
 
+  /** Standard class type aliases. */
   using Self = DRRPointCloud;
   using Superclass = Object;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
+  /** Box or Tent reconstruction kernel. */
   using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRPointCloud, Object);
 
   /** How the points were drawn: what a render of them needs besides the points. */
   struct Description
   {
-    uint64_t              NumberOfRequestedSamples{ 0 }; // N asked for (the cloud may hold R ceil(N / R))
-    uint64_t              NumberOfStrata{ 1 };           // independent strata (1: independent points)
-    bool                  InterleavedStrata{ false };    // strata share one run (stratified sampler)
-    double                SampledMass{ 0.0 };            // mm^2, volume frame: what the points stand for
-    double                MaximumWeight{ 1.0 };          // largest sampler weight
-    KernelEnum            Kernel{ KernelEnum::Box };     // reconstruction kernel that placed the points
-    std::array<double, 3> SupportLower{};                // continuous-index box the points lie in
-    std::array<double, 3> SupportUpper{};
-    std::array<size_t, 3> VolumeSize{}; // voxels of the volume drawn from
-    uint64_t              Seed{ 0 };
+    uint64_t              NumberOfRequestedSamples{ 0 }; ///< N asked for (the cloud may hold R ceil(N / R))
+    uint64_t              NumberOfStrata{ 1 };           ///< independent strata (1: independent points)
+    bool                  InterleavedStrata{ false };    ///< strata share one run (stratified sampler)
+    double                SampledMass{ 0.0 };            ///< mm^2, volume frame: what the points stand for
+    double                MaximumWeight{ 1.0 };          ///< largest sampler weight
+    KernelEnum            Kernel{ KernelEnum::Box };     ///< reconstruction kernel that placed the points
+    std::array<double, 3> SupportLower{};                ///< continuous-index box the points lie in: lower corner
+    std::array<double, 3> SupportUpper{};                ///< continuous-index box the points lie in: upper corner
+    std::array<size_t, 3> VolumeSize{};                  ///< voxels of the volume drawn from (x, y, z)
+    uint64_t              Seed{ 0 };                     ///< seed the points were drawn with
   };
 
   /** Sizes the cloud for numberOfPoints points (weights and strata only if asked for) and sets its description. */
   void
   Allocate(uint64_t numberOfPoints, bool withWeights, bool withStrata, const Description & description);
 
+  /** How the points were drawn. */
   const Description &
   GetDescription() const
   {
     return m_Description;
   }
 
+  /** Number of points held. */
   uint64_t
   GetNumberOfPoints() const
   {
     return m_X.size();
   }
 
+  ///@{
   /** Positions (continuous voxel index), one array per axis. */
   float *
   GetX()
@@ -121,6 +130,8 @@ public:
   {
     return m_Z.data();
   }
+  ///@}
+  ///@{
   /** Sampler weights, or null if every weight is 1. */
   float *
   GetWeights()
@@ -132,6 +143,8 @@ public:
   {
     return m_Weight.empty() ? nullptr : m_Weight.data();
   }
+  ///@}
+  ///@{
   /** Stratum of every point, or null with one stratum. */
   uint8_t *
   GetStrata()
@@ -143,10 +156,13 @@ public:
   {
     return m_Stratum.empty() ? nullptr : m_Stratum.data();
   }
+  ///@}
 
-  /** Memory held by the points (bytes), and per point. */
+  /** Memory held by the points, bytes. */
   size_t
   GetSizeInBytes() const;
+  /** Memory held per point, bytes: 12 for the positions, plus 4 with weights and 1 with strata
+   * (0 for an empty cloud). */
   double
   GetBytesPerPoint() const;
 

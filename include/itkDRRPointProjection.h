@@ -40,15 +40,21 @@ namespace itk
  *   weight  = (SID / z)^2 sqrt(1 + (pu/z)^2 + (pv/z)^2)   (perspective), 1 (parallel)
  *
  * which are affine in p up to one division. A perspective point counts only for 0 < z <= SID (between source and
- * detector plane); points nearer the source than GetMinimumDepth() are dropped (see ComputeDepthLimits()).
+ * detector plane); points nearer the source than GetMinimumDepth() are dropped (DRRPointRenderer sets that depth when
+ * the volume comes so near the source that its fixed-point sums could overflow, and reports it in
+ * DRRPointRenderer::Result::MinimumDepth).
  *
+ * \sa DRRProjectionGeometry, DRRPointRenderer
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRPointProjection
 {
 public:
+  /** A 3 x 3 matrix (of the room-to-volume transform, and of continuous index to room). */
   using MatrixType = DRRAttenuationVolume::MatrixType;
+  /** A room vector: a direction (unit) or a displacement (mm). */
   using VectorType = DRRProjectionGeometry::VectorType;
+  /** A room point, mm. */
   using PointType = DRRProjectionGeometry::PointType;
 
   /** Builds the mapping. roomToVolumeMatrix/Offset: the linear transform x_volume = A x_room + b (identity when
@@ -58,6 +64,7 @@ public:
                      const MatrixType &            roomToVolumeMatrix,
                      const VectorType &            roomToVolumeOffset);
 
+  /** True for a perspective beam, false for a parallel one. */
   bool
   IsPerspective() const
   {
@@ -183,9 +190,10 @@ public:
     row = pv / depth * m_SIDOverDV + m_RowShift;
   }
 
-  /** Continuous index -> room (mm), and back. */
+  /** Continuous voxel index -> room point (mm), through the volume's geometry and the transform. */
   PointType
   IndexToRoom(const double p[3]) const;
+  /** Room point (mm) -> continuous voxel index: the inverse of IndexToRoom(). */
   void
   RoomToIndex(const PointType & x, double p[3]) const;
 
@@ -203,7 +211,8 @@ public:
                     double &                      minimumDepth,
                     double &                      maximumDepth) const;
 
-  /** The smallest perspective weight cap: sqrt(1 + tan^2) over the detector extent widened by one pixel. */
+  /** The largest obliquity factor sqrt(1 + tan^2) of the perspective weight over the detector widened by one pixel
+   * (tan: the ray's angle to the normal), a bound of that factor for every point that lands on the detector. */
   double
   GetMaximumObliquity() const;
 
@@ -213,32 +222,38 @@ public:
   {
     m_MinimumDepth = depth > 0.0 ? depth : m_SmallestPositiveDepth;
   }
+  /** Depth below which perspective points are dropped, mm from the source (default: any positive depth counts). */
   double
   GetMinimumDepth() const
   {
     return m_MinimumDepth;
   }
 
+  /** Source to detector-plane distance (SID), mm. */
   double
   GetSourceToDetectorDistance() const
   {
     return m_SID;
   }
+  /** Source position S in the room, mm. */
   const PointType &
   GetSource() const
   {
     return m_Source;
   }
+  /** Unit normal n, from the detector towards the source. */
   const VectorType &
   GetNormal() const
   {
     return m_Normal;
   }
+  /** Unit column direction u of the detector. */
   const VectorType &
   GetColumnDirection() const
   {
     return m_U;
   }
+  /** Unit row direction v of the detector. */
   const VectorType &
   GetRowDirection() const
   {
@@ -248,11 +263,13 @@ public:
   PointType
   GetPixelPosition(double column, double row) const;
 
+  /** Number of detector columns (cols). */
   unsigned int
   GetNumberOfColumns() const
   {
     return m_Columns;
   }
+  /** Number of detector rows (rows). */
   unsigned int
   GetNumberOfRows() const
   {

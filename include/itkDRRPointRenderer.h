@@ -37,47 +37,57 @@ namespace itk
  * The estimate of pixel j is L_j = M / (N a) sum_i c_ij, where c_ij is the share of point i in pixel j (its sampler
  * weight times its perspective weight times its splat fraction), M the room attenuation mass and a the pixel area.
  * Its standard error is M / (N a) sqrt(N / (N - 1) (sum c^2 - (sum c)^2 / N)), from the same sums, for samplers of
- * independent points; for dependent points (stratified, Markov chains) the N samples form 16 independent strata and
- * the standard error comes from the spread of their 16 estimates.
+ * independent points; for dependent points (stratified, Markov chains) the N samples form R independent strata
+ * (Settings::NumberOfStrata, by default the sampler's DRRPointSampler::GetPreferredNumberOfStrata(): 4 for the
+ * stratified sampler, 16 for the Markov chain) and the standard error comes from the spread of their R estimates.
  *
  * Reproducibility: the N samples are cut into fixed chunks; chunk k draws from the Philox streams keyed by (seed, k).
  * Every contribution is rounded once to a 64-bit fixed-point integer whose scale is chosen from N and a bound on
  * the contributions, so sums cannot overflow and integer addition makes the result independent of which thread
  * ran which chunk: the same seed gives the same bits on any number of threads.
  *
+ * \sa PointBasedDRRImageFilter, DRRPointSampler, DRRPointProjection, DRRPointCloud
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRPointRenderer
 {
 public:
+  /** Box or Tent reconstruction kernel. */
   using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
+  /** Nearest or Bilinear splat. */
   using SplatEnum = PointBasedDRREnums::Splat;
+  /** Unbiased or PaperCount point weighting. */
   using WeightingEnum = PointBasedDRREnums::PointWeighting;
 
   /** Samples per chunk: the unit of random-stream addressing, work distribution and progress. */
   static constexpr uint64_t SamplesPerChunk = 65536;
 
+  /** What to render. */
   struct Settings
   {
-    uint64_t      NumberOfSamples{ 0 };
-    uint64_t      Seed{ 0 };
-    KernelEnum    Kernel{ KernelEnum::Box };
-    SplatEnum     Splat{ SplatEnum::Nearest };
-    WeightingEnum Weighting{ WeightingEnum::Unbiased };
-    uint64_t      NumberOfStrata{ 0 }; // for dependent samplers (0: the sampler's preference); if N >= 16 per stratum
+    uint64_t      NumberOfSamples{ 0 };                 ///< N, the number of points to draw
+    uint64_t      Seed{ 0 };                            ///< key of the random streams
+    KernelEnum    Kernel{ KernelEnum::Box };            ///< where in its voxel a point goes
+    SplatEnum     Splat{ SplatEnum::Nearest };          ///< how a point is deposited on the detector
+    WeightingEnum Weighting{ WeightingEnum::Unbiased }; ///< perspective weight, or the paper's count
+    /** Strata R for dependent samplers (0: the sampler's preference); used only if there are at least 16 points
+     * per stratum (N >= 16 R), otherwise, like R = 1, one stratum (standard error from the points as if they were
+     * independent). */
+    uint64_t NumberOfStrata{ 0 };
   };
 
+  /** What a render returns. */
   struct Result
   {
-    std::vector<double> LineIntegral;           // cols x rows, columns fastest
-    std::vector<double> StandardError;          // same layout
-    double              RoomMass{ 0.0 };        // mm^2, of the whole volume
-    double              SampledRoomMass{ 0.0 }; // mm^2, of the part sampled (in the view, for culling samplers)
-    double              MinimumDepth{ 0.0 };    // mm; points nearer the source were dropped
-    bool                SourceNearVolume{ false };
-    uint64_t            PointsOnDetector{ 0 }; // points that landed on the detector (nearest pixel inside)
-    uint64_t            NumberOfStrata{ 1 };   // 1: standard error from the points; more: from the strata
-    uint64_t            NumberOfSamples{ 0 };  // drawn: N, or R ceil(N / R) for samplers that interleave R strata
+    std::vector<double> LineIntegral;              ///< the estimate, dimensionless; cols x rows, columns fastest
+    std::vector<double> StandardError;             ///< its standard error, same layout
+    double              RoomMass{ 0.0 };           ///< attenuation mass of the whole volume in the room, mm^2
+    double              SampledRoomMass{ 0.0 };    ///< mm^2, of the part sampled (in the view, for culling samplers)
+    double              MinimumDepth{ 0.0 };       ///< mm; points nearer the source were dropped (0: none)
+    bool                SourceNearVolume{ false }; ///< the volume comes near enough the source to drop points
+    uint64_t            PointsOnDetector{ 0 };     ///< points that landed on the detector (nearest pixel inside)
+    uint64_t            NumberOfStrata{ 1 };       ///< 1: standard error from the points; more: from the strata
+    uint64_t            NumberOfSamples{ 0 };      ///< drawn: N, or R ceil(N / R) for samplers that interleave R strata
   };
 
   /** Renders. The volume must be the one the sampler was initialized with; the sampler is culled to the view
@@ -104,6 +114,7 @@ public:
    * renders many poses passes the same workspace to each render, which then allocates and clears nothing up front.
    * Opaque; one render at a time. */
   class Workspace;
+  /** A new, empty workspace for Render(cloud, ...). */
   static std::shared_ptr<Workspace>
   MakeWorkspace();
 

@@ -37,6 +37,10 @@ namespace itk
  * draw its random numbers from the stream it is handed or from streams keyed by the seed and stratum, so that results
  * depend on the seed alone, never on threads. GenerateBatch() is const and called concurrently.
  *
+ * A new sampler is one subclass and one line in itkDRRSamplerFactory.cxx.
+ *
+ * \sa DRRSamplerFactory, PointBasedDRRImageFilter::SetSampler(), DRRLevelAliasSampler, DRRStratifiedSampler,
+ * DRRMetropolisSampler, DRRPaperHybridSampler, DRRUniformVolumeSampler
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRPointSampler : public Object
@@ -44,11 +48,13 @@ class PointBasedDRR_EXPORT DRRPointSampler : public Object
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRPointSampler);
 
+  /** Standard class type aliases. */
   using Self = DRRPointSampler;
   using Superclass = Object;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRPointSampler, Object);
 
   /** Builds the sampling tables for a volume. The volume must outlive the sampler's use. */
@@ -68,13 +74,13 @@ public:
    * belongs to. */
   struct SampleRange
   {
-    uint64_t Seed{ 0 };
-    uint64_t First{ 0 };          // first sample of the batch
-    uint64_t Count{ 0 };          // samples in the batch
-    uint64_t Stratum{ 0 };        // index of the run (of the stratum, unless interleaved)
-    uint64_t StratumFirst{ 0 };   // first sample of the run
-    uint64_t StratumSize{ 0 };    // samples in the run
-    uint64_t NumberOfStrata{ 1 }; // strata interleaved in the run (each of StratumSize / NumberOfStrata samples)
+    uint64_t Seed{ 0 };           ///< seed of the render
+    uint64_t First{ 0 };          ///< first sample of the batch
+    uint64_t Count{ 0 };          ///< samples in the batch
+    uint64_t Stratum{ 0 };        ///< index of the run (of the stratum, unless interleaved)
+    uint64_t StratumFirst{ 0 };   ///< first sample of the run
+    uint64_t StratumSize{ 0 };    ///< samples in the run
+    uint64_t NumberOfStrata{ 1 }; ///< strata interleaved in the run (each of StratumSize / NumberOfStrata samples)
   };
 
   /** Fills voxelIndex[0 .. range.Count) (linear index, x fastest) and weight[0 .. range.Count). */
@@ -87,26 +93,27 @@ public:
    * render independent of the threads. */
   struct Cursor
   {
-    bool     Valid{ false };
-    uint64_t Stratum{ 0 };
-    uint64_t Position[4]{};
-    double   Mass[2]{};
+    bool     Valid{ false }; ///< false at the start of a chunk: the sampler must position the cursor first
+    uint64_t Stratum{ 0 };   ///< the stratum the cursor is in (the sampler's to use)
+    uint64_t Position[4]{};  ///< where in its tables, in the sampler's own terms
+    double   Mass[2]{};      ///< masses the sampler keeps with the position (1/mm, in its own terms)
   };
 
   /** What GenerateCoordinates() fills, one entry per sample of the range: voxel coordinates (i, j, k), weights, the
    * stratum of each sample (interleaving samplers only) and the jitter (ProvidesJitter() samplers only). I, J and K
    * have room for CoordinateSlack entries past the range, which a sampler may overwrite (branch-free stores). */
   static constexpr uint64_t CoordinateSlack = 8;
+  /** The arrays GenerateCoordinates() fills (see above). */
   struct CoordinateBatch
   {
-    uint32_t * I;
-    uint32_t * J;
-    uint32_t * K;
-    double *   Weight;
-    uint32_t * Stratum;
-    uint32_t * JitterX;
-    uint32_t * JitterY;
-    uint32_t * JitterZ;
+    uint32_t * I;       ///< voxel index along x
+    uint32_t * J;       ///< voxel index along y
+    uint32_t * K;       ///< voxel index along z
+    double *   Weight;  ///< sampler weight q / P of each sample
+    uint32_t * Stratum; ///< stratum of each sample (samplers that InterleavesStrata() only)
+    uint32_t * JitterX; ///< 32 uniform bits for the kernel's offset along x (samplers that ProvidesJitter() only)
+    uint32_t * JitterY; ///< the same along y
+    uint32_t * JitterZ; ///< the same along z
   };
 
   /** True if the sampler implements GenerateCoordinates(), which then replaces GenerateBatch() in renders: voxel
@@ -116,6 +123,9 @@ public:
   {
     return false;
   }
+  /** Fills batch[0 .. range.Count) (see CoordinateBatch) for the samples of range, continuing from cursor and leaving
+   * it where the batch ended. Called concurrently (one cursor per thread). Only for samplers that
+   * GeneratesCoordinates(); the default does nothing. */
   virtual void
   GenerateCoordinates(const SampleRange &, Cursor &, const CoordinateBatch &) const
   {}
@@ -186,7 +196,9 @@ protected:
     os << indent << "MaximumWeight: " << m_MaximumWeight << std::endl;
   }
 
+  /** Total attenuation mass M of the volume, mm^2: set by Initialize(). */
   double m_TotalMass{ 0.0 };
+  /** Largest weight GenerateBatch() can return: set by Initialize(). */
   double m_MaximumWeight{ 1.0 };
 };
 } // namespace itk

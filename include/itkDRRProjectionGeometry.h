@@ -52,10 +52,13 @@ namespace itk
  * coordinates relative to the foot of the normal from the source. A 3D one-slice output is placed in the
  * room: origin at the centre of pixel (0, 0), direction columns (u, v, -n).
  *
+ * \image html geometry.svg "The room seen from +z (left) and the detector seen from the source (right)"
+ *
  * The explicit form (source, detector centre, column and row unit vectors) is accepted too and converted to
  * the same internal parameters; ReadGeometryFile() reads the `key value...` file format of the design
  * (`projection`, `sad`, `sid`, `gantry`, `nrm`, `vup`, `isocenter`, `cols`, `rows`, `spacing`, `offset`).
  *
+ * \sa PointBasedDRRImageFilter, ExactDRRImageFilter, DRRPointProjection
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRProjectionGeometry : public Object
@@ -63,66 +66,95 @@ class PointBasedDRR_EXPORT DRRProjectionGeometry : public Object
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRProjectionGeometry);
 
+  /** Standard class type aliases. */
   using Self = DRRProjectionGeometry;
   using Superclass = Object;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRProjectionGeometry, Object);
 
+  /** A point of the room (the volume's physical LPS frame), mm. */
   using PointType = Point<double, 3>;
+  /** A vector of the room: a direction (unit) or a displacement (mm). */
   using VectorType = Vector<double, 3>;
+  /** Detector size in pixels: (cols, rows). */
   using DetectorSizeType = Size<2>;
+  /** A detector-plane quantity along (u, v): a pixel spacing or an offset, mm. */
   using DetectorVectorType = Vector<double, 2>;
+  /** Perspective or parallel beam. */
   using ProjectionEnum = PointBasedDRREnums::Projection;
 
+  ///@{
   /** Perspective (default) or parallel beam. */
   itkSetEnumMacro(Projection, ProjectionEnum);
   itkGetConstMacro(Projection, ProjectionEnum);
+  ///@}
 
+  ///@{
   /** Source to isocenter distance (SAD), mm. Default 1000. */
   itkSetMacro(SourceToIsocenterDistance, double);
   itkGetConstMacro(SourceToIsocenterDistance, double);
+  ///@}
 
+  ///@{
   /** Source to detector-plane distance (SID), mm. Default 1500. */
   itkSetMacro(SourceToDetectorDistance, double);
   itkGetConstMacro(SourceToDetectorDistance, double);
+  ///@}
 
+  ///@{
   /** Isocenter in the volume's physical frame, mm. Default (0, 0, 0). */
   itkSetMacro(Isocenter, PointType);
   itkGetConstMacro(Isocenter, PointType);
+  ///@}
 
   /** Gantry angle in degrees: sets the normal to (cos g, -sin g, 0). */
   void
   SetGantryAngleInDegrees(double angleInDegrees);
+  /** The angle last given to SetGantryAngleInDegrees(), degrees (default 0). SetNormal() and the explicit forms do
+   * not change it: GetNormal() is the direction in force. */
   itkGetConstMacro(GantryAngleInDegrees, double);
 
   /** Unit vector from the isocenter towards the source (normalized on Set). Overrides the gantry angle. */
   void
   SetNormal(const VectorType & normal);
+  /** Unit vector from the isocenter towards the source. Default (1, 0, 0) (gantry 0). */
   itkGetConstReferenceMacro(Normal, VectorType);
 
+  ///@{
   /** View-up vector: row 0 of the detector is at its +vup edge. Default (0, 0, 1). */
   itkSetMacro(ViewUp, VectorType);
   itkGetConstReferenceMacro(ViewUp, VectorType);
+  ///@}
 
+  ///@{
   /** Number of detector columns and rows (cols, rows). Default 256 x 256. */
   itkSetMacro(DetectorSize, DetectorSizeType);
   itkGetConstReferenceMacro(DetectorSize, DetectorSizeType);
+  ///@}
 
+  ///@{
   /** Detector pixel spacing (du along columns, dv along rows), mm. Default 1 x 1. */
   itkSetMacro(DetectorSpacing, DetectorVectorType);
   itkGetConstReferenceMacro(DetectorSpacing, DetectorVectorType);
+  ///@}
 
+  ///@{
   /** Offset of the detector centre in the detector plane (along u, along v), mm. Default 0, 0. */
   itkSetMacro(DetectorOffset, DetectorVectorType);
   itkGetConstReferenceMacro(DetectorOffset, DetectorVectorType);
+  ///@}
 
   /** Explicit perspective form: source, detector centre (centre of the pixel grid), and the column (u) and row
    * (v) unit vectors of the detector. Sets the normal, SID, isocenter (the foot of the normal, SAD = SID),
-   * view-up (-v) and offsets accordingly. Throws if u and v are not orthogonal or the source lies in the
-   * detector plane. */
+   * view-up (-v) and offsets accordingly. Throws if u and v are not orthogonal, or if the source does not lie on the
+   * +n side of the detector plane (n = v x u: the source must be in front of the detector as seen with u to the
+   * right and v down). */
   void
   SetExplicitPerspectiveGeometry(const PointType &  source,
                                  const PointType &  detectorCenter,
@@ -156,20 +188,25 @@ public:
   void
   VerifyGeometry() const;
 
-  /** Derived quantities (valid after VerifyGeometry()). */
+  /** Unit column direction u = unit(vup x n): increasing column index. Derived, like the quantities below: valid
+   * after VerifyGeometry(). */
   VectorType
   GetColumnDirection() const;
+  /** Unit row direction v = u x n: increasing row index, away from the +vup edge. */
   VectorType
   GetRowDirection() const;
+  /** Source S = isocenter + SAD n, mm (a parallel beam has no source: this point still places the detector plane,
+   * SID along -n from it). */
   PointType
   GetSourcePosition() const;
-  /** Foot of the normal from the source on the detector plane: the origin of detector (u, v) coordinates. */
+  /** Foot of the normal from the source on the detector plane (S - SID n, mm): the origin of detector (u, v)
+   * coordinates. */
   PointType
   GetDetectorPlaneOrigin() const;
-  /** Centre of the pixel grid. */
+  /** Centre of the pixel grid C = S - SID n + offset_u u + offset_v v, mm. */
   PointType
   GetDetectorCenter() const;
-  /** Centre of pixel (column i, row j) in world coordinates. Fractional indices are allowed. */
+  /** Centre of pixel (column i, row j) in world coordinates, mm. Fractional indices are allowed. */
   PointType
   GetPixelCenter(double column, double row) const;
   /** Detector-plane coordinates (along u, along v, mm) of the centre of pixel (0, 0): the 2D output origin. */

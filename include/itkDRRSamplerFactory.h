@@ -30,16 +30,25 @@ namespace itk
  * \brief The samplers a user can pick by name (the CLI's --sampler), each registered by one line in
  * itkDRRSamplerFactory.cxx.
  *
+ * Names: `level-alias` (DRRLevelAliasSampler, the default), `stratified` (DRRStratifiedSampler), `metropolis`
+ * (DRRMetropolisSampler), `paper-hybrid` (DRRPaperHybridSampler), `mcvr` (DRRUniformVolumeSampler).
+ *
+ * \code
+ *   drr->SetSampler(itk::DRRSamplerFactory::Create("stratified"));
+ * \endcode
+ *
+ * \sa DRRPointSampler, PointBasedDRRImageFilter::SetSampler()
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRSamplerFactory
 {
 public:
+  /** A registered sampler. */
   struct Entry
   {
-    std::string Name;
-    std::string Description;
-    DRRPointSampler::Pointer (*Create)();
+    std::string Name;                     ///< what Create() and the CLI's --sampler take, e.g. `level-alias`
+    std::string Description;              ///< one line for the CLI's help
+    DRRPointSampler::Pointer (*Create)(); ///< makes a new sampler with its default settings
   };
 
   /** Every registered sampler, in registration order. */

@@ -50,6 +50,9 @@ namespace itk
  * (4 bytes) plus, per non-empty brick, its occupancy bits and group masses (about 150 bytes per brick, under half a
  * byte per non-air voxel on CT).
  *
+ * `stratified` in DRRSamplerFactory.
+ *
+ * \sa DRRLevelAliasSampler, PointBasedDRRImageFilter::SetNumberOfStrata()
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRStratifiedSampler : public DRRPointSampler
@@ -57,12 +60,16 @@ class PointBasedDRR_EXPORT DRRStratifiedSampler : public DRRPointSampler
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRStratifiedSampler);
 
+  /** Standard class type aliases. */
   using Self = DRRStratifiedSampler;
   using Superclass = DRRPointSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRStratifiedSampler, DRRPointSampler);
 
   void
@@ -120,12 +127,13 @@ public:
     return m_SampledMass;
   }
 
-  /** Non-empty bricks in the view after SetView(), and in the volume. */
+  /** Non-empty bricks (8 x 8 x 8 voxels) in the view after SetView(); all of them without a view. */
   size_t
   GetNumberOfBricksInView() const
   {
     return m_ViewBricks.size();
   }
+  /** Non-empty bricks (8 x 8 x 8 voxels) in the volume. */
   size_t
   GetNumberOfBricks() const
   {

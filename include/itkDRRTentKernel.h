@@ -34,9 +34,11 @@ namespace itk
  */
 struct DRRTentKernel
 {
+  /** A point stays within one voxel of its voxel centre along each axis. */
   static constexpr double Reach = 1.0;
 
-  /** Inverse of the distribution function of the density 1 - |t|. */
+  /** Offset along one axis, voxels, in [-1, 1) with density 1 - |t|: the inverse of its distribution function at the
+   * uniform of 32 random bits. */
   static double
   Offset(uint32_t bits)
   {

@@ -42,6 +42,7 @@ namespace itk
  * Voxels whose input value is below the air threshold (input units; default: none) get mu = 0 and are never
  * sampled. Every mode maps one input value to one mu, so voxels of one input level share one mu.
  *
+ * \sa DRRImageFilterBase::SetTransferFunction(), DRRAttenuationVolume
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRTransferFunction : public Object
@@ -49,44 +50,60 @@ class PointBasedDRR_EXPORT DRRTransferFunction : public Object
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRTransferFunction);
 
+  /** Standard class type aliases. */
   using Self = DRRTransferFunction;
   using Superclass = Object;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
+  /** Natural, PiecewiseLinear or Identity. */
   using ModeEnum = PointBasedDRREnums::TransferFunction;
+  /** (input value, mu in 1/mm) pairs of the piecewise-linear mode. */
   using PointListType = std::vector<std::pair<double, double>>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRTransferFunction, Object);
 
+  ///@{
+  /** The mode: Natural (default), PiecewiseLinear or Identity (input already mu in 1/mm). */
   itkSetEnumMacro(Mode, ModeEnum);
   itkGetConstMacro(Mode, ModeEnum);
+  ///@}
 
   /** Effective photon energy (keV) for the natural transfer function; sets mu_water from the NIST table.
    * Throws outside the table's 10 keV .. 1 MeV. */
   void
   SetEffectiveEnergyInKeV(double energyInKeV);
+  /** Effective photon energy, keV (default 60 keV); 0 after SetMuWaterPerMillimeter() (mu_water then derives from no
+   * energy). */
   itkGetConstMacro(EffectiveEnergyInKeV, double);
 
-  /** Linear attenuation of water (1/mm) used by the natural transfer function. */
+  /** Linear attenuation of water (1/mm) used by the natural transfer function, in (0, 10] 1/mm (throws otherwise);
+   * sets the effective energy to 0 (none). */
   void
   SetMuWaterPerMillimeter(double muWater);
+  /** Linear attenuation of water, 1/mm (default 0.02059 /mm, water at 60 keV). */
   itkGetConstMacro(MuWaterPerMillimeter, double);
 
   /** (input value, mu in 1/mm) pairs for the piecewise-linear mode; values strictly increasing, mu >= 0.
    * Also selects the piecewise-linear mode. */
   void
   SetPiecewiseLinearPoints(const PointListType & points);
+  /** The (input value, mu in 1/mm) pairs of the piecewise-linear mode. */
   const PointListType &
   GetPiecewiseLinearPoints() const
   {
     return m_PiecewiseLinearPoints;
   }
 
+  ///@{
   /** Input values strictly below this (input units: HU, or 1/mm for mu input) are air: mu = 0.
    * Default: -infinity (no threshold beyond the model's own zero). */
   itkSetMacro(AirThreshold, double);
   itkGetConstMacro(AirThreshold, double);
+  ///@}
 
   /** mu (1/mm) of one input value. The value must be finite; the result is >= 0 except in Identity mode with
    * negative input, which the filters reject. */

@@ -27,6 +27,9 @@ namespace itk
  * whole volume box, air included, each point weighted by mu_v N_voxels / sum(mu) so that it estimates the same line
  * integrals as the importance samplers. No tables; every point reads the volume.
  *
+ * `mcvr` in DRRSamplerFactory.
+ *
+ * \sa DRRLevelAliasSampler
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRUniformVolumeSampler : public DRRPointSampler
@@ -34,12 +37,16 @@ class PointBasedDRR_EXPORT DRRUniformVolumeSampler : public DRRPointSampler
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRUniformVolumeSampler);
 
+  /** Standard class type aliases. */
   using Self = DRRUniformVolumeSampler;
   using Superclass = DRRPointSampler;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(DRRUniformVolumeSampler, DRRPointSampler);
 
   void

@@ -40,13 +40,15 @@ namespace itk
 class PointBasedDRR_EXPORT DRRWorkScheduler
 {
 public:
+  /** A work item: called with the index of the worker that runs it and the item's number. */
   using WorkType = std::function<void(unsigned int worker, uint64_t item)>;
 
   /** Number of workers Run() uses for this many items. */
   static unsigned int
   GetNumberOfWorkers(const MultiThreaderBase * threader, uint64_t numberOfItems);
 
-  /** Calls work(worker, item) once for every item in [0, numberOfItems). progressFilter may be null. */
+  /** Calls work(worker, item) once for every item in [0, numberOfItems) on the threads of threader (not null).
+   * progressFilter may be null. */
   static void
   Run(MultiThreaderBase * threader, uint64_t numberOfItems, const WorkType & work, ProcessObject * progressFilter);
 };

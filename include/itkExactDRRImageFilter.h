@@ -40,27 +40,37 @@ class ITK_TEMPLATE_EXPORT ExactDRRImageFilter : public DRRImageFilterBase<TInput
 public:
   ITK_DISALLOW_COPY_AND_MOVE(ExactDRRImageFilter);
 
+  /** Standard class type aliases. */
   using Self = ExactDRRImageFilter;
   using Superclass = DRRImageFilterBase<TInputImage, TOutputImage>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
+  /** Box (Siddon) or Tent (trilinear) voxel model. */
   using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(ExactDRRImageFilter, DRRImageFilterBase);
 
+  ///@{
   /** Box (default): Siddon through the piecewise-constant model. Tent: exact trilinear integral. */
   itkSetEnumMacro(ReconstructionKernel, KernelEnum);
   itkGetConstMacro(ReconstructionKernel, KernelEnum);
+  ///@}
 
-  /** k: rays per pixel side (k x k rays per pixel, at the centres of a regular subdivision). Default 1. */
+  ///@{
+  /** k: rays per pixel side (k x k rays per pixel, at the centres of a regular subdivision), 1 to 1024. Default 1. */
   itkSetClampMacro(RaysPerPixelSide, unsigned int, 1, 1024);
   itkGetConstMacro(RaysPerPixelSide, unsigned int);
+  ///@}
 
 protected:
   ExactDRRImageFilter() = default;
   ~ExactDRRImageFilter() override = default;
 
+  /** Integrates k x k rays per pixel through the volume and writes the output. */
   void
   GenerateData() override;
   void

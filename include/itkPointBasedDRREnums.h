@@ -27,6 +27,9 @@ namespace itk
 /** \class PointBasedDRREnums
  * \brief Enumerations shared by the PointBasedDRR filters, geometry and transfer functions.
  *
+ * Each enumeration prints its value's name with operator<<.
+ *
+ * \sa PointBasedDRRImageFilter, ExactDRRImageFilter, DRRProjectionGeometry, DRRTransferFunction
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT PointBasedDRREnums
@@ -36,7 +39,9 @@ public:
    * line through the pixel along the detector normal. */
   enum class Projection : uint8_t
   {
+    /** Rays from the source S to every pixel (the default). */
     Perspective,
+    /** Rays along -n, one line through every pixel; no source. */
     Parallel
   };
 
@@ -46,7 +51,9 @@ public:
    * with one layer of zero voxels; exact reference: dual-grid trilinear integral). */
   enum class ReconstructionKernel : uint8_t
   {
+    /** Uniform in the voxel: the piecewise-constant model (the default). */
     Box,
+    /** Voxel centre plus a triangular offset of +-1 voxel per axis: the trilinear model. */
     Tent
   };
 
@@ -56,7 +63,9 @@ public:
    * pixel-area average blurred by a one-pixel tent, a blur that is part of its measured error). */
   enum class Splat : uint8_t
   {
+    /** The pixel that contains the projected point (the default). */
     Nearest,
+    /** The four nearest pixel centres, with bilinear weights. */
     Bilinear
   };
 
@@ -65,9 +74,13 @@ public:
    * [0, 65535] (the paper's quantization step; bright = attenuating, as on a radiograph). */
   enum class OutputMode : uint8_t
   {
+    /** The line integral of mu (mm times 1/mm: dimensionless), the default. */
     LineIntegral,
+    /** exp(-line integral), in [0, 1]. */
     Transmission,
+    /** Gray levels 0 to 255 over the window. */
     Gray8,
+    /** Gray levels 0 to 65535 over the window. */
     Gray16
   };
 
@@ -76,8 +89,11 @@ public:
    * PiecewiseLinear: user-given (value, mu) pairs; Identity: the input already is mu in 1/mm. */
   enum class TransferFunction : uint8_t
   {
+    /** mu = mu_water(E) * max(0, 1 + HU / 1000), for CT in HU (the default). */
     Natural,
+    /** Linear between user-given (value, mu) pairs. */
     PiecewiseLinear,
+    /** The input is mu in 1/mm. */
     Identity
   };
 
@@ -86,11 +102,15 @@ public:
    * magnification in perspective. */
   enum class PointWeighting : uint8_t
   {
+    /** The perspective weight (SID / z)^2 sqrt(SID^2 + u^2 + v^2) / SID of each point (the default): the pixel-area
+     * average line integral, without bias. */
     Unbiased,
+    /** Weight 1 for every point, as in the paper: biased by the magnification in perspective. */
     PaperCount
   };
 };
 
+/** Writes the name of the enumerator (e.g. `Perspective`). @{ */
 PointBasedDRR_EXPORT std::ostream &
                      operator<<(std::ostream & out, const PointBasedDRREnums::Projection value);
 PointBasedDRR_EXPORT std::ostream &
@@ -103,6 +123,7 @@ PointBasedDRR_EXPORT std::ostream &
                      operator<<(std::ostream & out, const PointBasedDRREnums::TransferFunction value);
 PointBasedDRR_EXPORT std::ostream &
                      operator<<(std::ostream & out, const PointBasedDRREnums::PointWeighting value);
+/** @} */
 } // namespace itk
 
 #endif

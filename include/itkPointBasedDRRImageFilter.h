@@ -57,51 +57,77 @@ class ITK_TEMPLATE_EXPORT PointBasedDRRImageFilter : public DRRImageFilterBase<T
 public:
   ITK_DISALLOW_COPY_AND_MOVE(PointBasedDRRImageFilter);
 
+  /** Standard class type aliases. */
   using Self = PointBasedDRRImageFilter;
   using Superclass = DRRImageFilterBase<TInputImage, TOutputImage>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
   itkTypeMacro(PointBasedDRRImageFilter, DRRImageFilterBase);
 
   using typename Superclass::OutputImageType;
+  /** The sampler policy's base class. */
   using SamplerType = DRRPointSampler;
+  /** Box or Tent voxel model. */
   using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
+  /** Nearest or Bilinear splat. */
   using SplatEnum = PointBasedDRREnums::Splat;
+  /** Unbiased or PaperCount point weighting. */
   using WeightingEnum = PointBasedDRREnums::PointWeighting;
 
+  ///@{
   /** Number of points drawn (N, at least 1; 64-bit). Default 10^6. */
   itkSetMacro(NumberOfSamples, uint64_t);
   itkGetConstMacro(NumberOfSamples, uint64_t);
+  ///@}
 
+  ///@{
   /** Seed of the counter-based random streams. Default 0. */
   itkSetMacro(Seed, uint64_t);
   itkGetConstMacro(Seed, uint64_t);
+  ///@}
 
+  ///@{
   /** Voxel model: Box (default, reference Siddon) or Tent (trilinear). */
   itkSetEnumMacro(ReconstructionKernel, KernelEnum);
   itkGetConstMacro(ReconstructionKernel, KernelEnum);
+  ///@}
 
-  /** Nearest (default) or Bilinear. */
+  ///@{
+  /** How a point is deposited on the detector: Nearest (default) or Bilinear. */
   itkSetEnumMacro(Splat, SplatEnum);
   itkGetConstMacro(Splat, SplatEnum);
+  ///@}
 
+  ///@{
   /** Unbiased (default) or the paper's unweighted count. */
   itkSetEnumMacro(PointWeighting, WeightingEnum);
   itkGetConstMacro(PointWeighting, WeightingEnum);
+  ///@}
 
+  ///@{
   /** Number of independent strata R (2 to 256; 0, the default: the sampler's preference, 4 for stratified and 16
    * for metropolis) a sampler of dependent points is run as: its standard error comes from their spread (R - 1
    * degrees of freedom). Fewer strata leave each one more points and so a lower error for stratified sampling, at the
-   * price of a noisier standard-error image. */
+   * price of a noisier standard-error image. 1 is accepted and runs one stratum, whose standard error then treats the
+   * points as independent; so does any R with fewer than 16 points per stratum. Samplers of independent points
+   * ignore it. */
   itkSetClampMacro(NumberOfStrata, unsigned int, 0, 256);
   itkGetConstMacro(NumberOfStrata, unsigned int);
+  ///@}
 
-  /** The sampler policy. Default: DRRLevelAliasSampler (exact importance sampling by attenuation level). */
+  ///@{
+  /** The sampler policy. Default: DRRLevelAliasSampler (exact importance sampling by attenuation level).
+   * \sa DRRSamplerFactory */
   itkSetObjectMacro(Sampler, SamplerType);
   itkGetModifiableObjectMacro(Sampler, SamplerType);
+  ///@}
 
+  ///@{
   /** Point reuse (default off). On, the filter keeps the points it draws (DRRPointCloud: 12 to 17 bytes per point,
    * over the whole volume) and, while only the transform, the geometry, the splat or the weighting change, renders
    * by re-projecting them instead of sampling again: registration's many poses of one volume at a fraction of the
@@ -113,6 +139,7 @@ public:
   itkSetMacro(ReusePoints, bool);
   itkGetConstMacro(ReusePoints, bool);
   itkBooleanMacro(ReusePoints);
+  ///@}
 
   /** The kept points (null unless ReusePoints and after an update); see DRRPointCloud::GetBytesPerPoint(). */
   const DRRPointCloud *
@@ -147,10 +174,13 @@ public:
   /** Points behind the current outputs: NumberOfSamples plus every refinement since the last Update(). */
   itkGetConstMacro(TotalNumberOfSamples, uint64_t);
 
-  /** Statistics of the last render. */
+  /** Attenuation mass M of the volume in the room (sum of mu times voxel volume), mm^2, of the last render. */
   itkGetConstMacro(TotalMass, double);
+  /** Number of points that landed on the detector (their nearest pixel inside it), in the last Update() and the
+   * refinements since. */
   itkGetConstMacro(PointsOnDetector, uint64_t);
 
+  /** Includes the sampler's, as well as the geometry's, transform's and transfer function's. */
   ModifiedTimeType
   GetMTime() const override;
 
@@ -158,6 +188,7 @@ protected:
   PointBasedDRRImageFilter();
   ~PointBasedDRRImageFilter() override = default;
 
+  /** Renders NumberOfSamples points (or re-projects the kept ones) and writes both outputs. */
   void
   GenerateData() override;
 

@@ -72,15 +72,19 @@ class ITK_TEMPLATE_EXPORT PointBasedDRRInterpolateImageFunction
 public:
   ITK_DISALLOW_COPY_AND_MOVE(PointBasedDRRInterpolateImageFunction);
 
+  /** Standard class type aliases. */
   using Self = PointBasedDRRInterpolateImageFunction;
   using Superclass = InterpolateImageFunction<TInputImage, TCoordRep>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** Dimension of the input volume: 3. */
   static constexpr unsigned int InputImageDimension = TInputImage::ImageDimension;
   static_assert(InputImageDimension == 3, "the DRR interpolator takes a 3D volume");
 
+  /** Run-time type information (and related methods). */
   itkTypeMacro(PointBasedDRRInterpolateImageFunction, InterpolateImageFunction);
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
 
   using typename Superclass::ContinuousIndexType;
@@ -88,39 +92,58 @@ public:
   using typename Superclass::InputImageType;
   using typename Superclass::OutputType;
   using typename Superclass::PointType;
+  /** Size of the input volume, voxels. */
   using SizeType = typename InputImageType::SizeType;
+  /** The room -> CT transform (linear: rigid or affine), as for the ray caster. */
   using TransformType = Transform<TCoordRep, 3, 3>;
+  /** A room point, mm. */
   using InputPointType = typename TransformType::InputPointType;
+  /** The ray caster's voxel interpolator type (accepted, not used). */
   using InterpolatorType = InterpolateImageFunction<TInputImage, TCoordRep>;
+  /** The projection rendered once per pose: line integrals on the detector grid. */
   using ProjectionImageType = Image<float, 2>;
+  /** The filter that renders the projection. */
   using FilterType = PointBasedDRRImageFilter<TInputImage, ProjectionImageType>;
+  /** The detector geometry rendered on. */
   using GeometryType = DRRProjectionGeometry;
 
+  ///@{
   /** Room -> CT transform, as for the ray caster (shared with the metric or the resampler). Required. */
   itkSetObjectMacro(Transform, TransformType);
   itkGetModifiableObjectMacro(Transform, TransformType);
+  ///@}
 
+  ///@{
   /** Accepted for the ray caster's interface; not used (the voxel model is the filter's reconstruction kernel). */
   itkSetObjectMacro(Interpolator, InterpolatorType);
   itkGetModifiableObjectMacro(Interpolator, InterpolatorType);
+  ///@}
 
-  /** The focal point (X-ray source) in the room, mm. */
+  ///@{
+  /** The focal point (X-ray source) in the room, mm. Default (0, 0, 0). */
   itkSetMacro(FocalPoint, InputPointType);
   itkGetConstMacro(FocalPoint, InputPointType);
+  ///@}
 
+  ///@{
   /** Input values at or below the threshold add nothing; above it, value - threshold (input units). Default 0. */
   itkSetMacro(Threshold, double);
   itkGetConstMacro(Threshold, double);
+  ///@}
 
+  ///@{
   /** On (default): attenuation = max(0, input - Threshold) per mm, as the ray caster integrates. Off: the DRR
    * filter's transfer function (natural HU -> mu at 60 keV unless set). */
   itkSetMacro(AttenuationFromThreshold, bool);
   itkGetConstMacro(AttenuationFromThreshold, bool);
   itkBooleanMacro(AttenuationFromThreshold);
+  ///@}
 
-  /** Pixels per side of the automatic virtual detector. Default 256. */
+  ///@{
+  /** Pixels per side of the automatic virtual detector, 2 to 8192. Default 256. */
   itkSetClampMacro(DetectorSize, unsigned int, 2, 8192);
   itkGetConstMacro(DetectorSize, unsigned int);
+  ///@}
 
   /** Render on this detector (perspective; the focal point must be its source) instead of the automatic one. */
   void
@@ -173,16 +196,20 @@ public:
     return m_NumberOfRenders;
   }
 
+  /** The CT volume; also the input of the DRR filter. */
   void
   SetInputImage(const InputImageType * image) override;
 
-  /** The line integral along the ray from the transformed focal point through point (CT frame, mm). */
+  /** The line integral along the ray from the transformed focal point through point (CT frame, mm): input units times
+   * mm with AttenuationFromThreshold, dimensionless (mu in 1/mm times mm) without. */
   OutputType
   Evaluate(const PointType & point) const override;
 
+  /** Evaluate() at the physical point of a continuous index of the CT. */
   OutputType
   EvaluateAtContinuousIndex(const ContinuousIndexType & index) const override;
 
+  ///@{
   /** As the ray caster: every point has a ray. */
   bool
   IsInsideBuffer(const PointType &) const override
@@ -199,7 +226,9 @@ public:
   {
     return true;
   }
+  ///@}
 
+  /** As the ray caster: the size of the whole input volume (a ray reads all of it). Throws without an input. */
   SizeType
   GetRadius() const override;
 
