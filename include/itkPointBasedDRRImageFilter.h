@@ -113,9 +113,9 @@ public:
   /** Number of independent strata R (2 to 256; 0, the default: the sampler's preference, 4 for stratified and 16
    * for metropolis) a sampler of dependent points is run as: its standard error comes from their spread (R - 1
    * degrees of freedom). Fewer strata leave each one more points and so a lower error for stratified sampling, at the
-   * price of a noisier standard-error image. 1 is accepted and runs one stratum, whose standard error then treats the
-   * points as independent; so does any R with fewer than 16 points per stratum. Samplers of independent points
-   * ignore it. */
+   * price of a noisier standard-error image. 1 is refused at Update() (one stratum of dependent points has no spread
+   * to measure). With fewer than 16 points per stratum the render runs as one stratum, whose standard error treats
+   * the points as independent, and the filter warns. Samplers of independent points ignore it. */
   itkSetClampMacro(NumberOfStrata, unsigned int, 0, 256);
   itkGetConstMacro(NumberOfStrata, unsigned int);
   ///@}

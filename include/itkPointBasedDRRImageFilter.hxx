@@ -69,6 +69,22 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t sampl
   {
     itkExceptionMacro("the number of samples must be at least 1");
   }
+  if (m_NumberOfStrata == 1)
+  {
+    // One stratum of dependent points has no spread to measure: its standard error would assume independence.
+    itkExceptionMacro("NumberOfStrata must be 0 (the sampler's choice) or 2 to 256, not 1");
+  }
+  if (m_Sampler && !m_Sampler->HasIndependentSamples())
+  {
+    const uint64_t strata = m_NumberOfStrata > 0 ? m_NumberOfStrata : m_Sampler->GetPreferredNumberOfStrata();
+    if (strata > 1 && samples < 16 * strata)
+    {
+      itkWarningMacro("" << samples << " samples are too few for " << strata << " strata of the "
+                         << m_Sampler->GetNameOfClass()
+                         << " sampler (16 per stratum at least): rendered as one run, whose standard error "
+                            "treats its dependent points as independent");
+    }
+  }
   DRRPointRenderer::Settings settings;
   settings.NumberOfSamples = samples;
   // Pass 0 is keyed by the seed itself; later passes by a SplitMix64 mix of seed and pass, so streams never repeat.

@@ -703,6 +703,30 @@ TEST(PointBasedDRRRobustness, ZeroSamplesThrows)
   ExpectUpdateThrows(drr.GetPointer(), { "number of samples" }, "N = 0");
 }
 
+TEST(PointBasedDRRRobustness, OneStratumIsRefusedAndTooFewPointsPerStratumWarn)
+{
+  auto volume = MakeCentredVolume<HUVolumeType>({ { 4, 4, 4 } }, Vec3(1.0, 1.0, 1.0), Identity<HUVolumeType>());
+  FillPattern(volume);
+  auto drr = PointBasedFilter<HUVolumeType>::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(MakeGeometry(100.0, 150.0, 0.0, 8, 8, 2.0, 2.0));
+  drr->SetSampler(itk::DRRSamplerFactory::Create("stratified"));
+  drr->SetNumberOfStrata(1);
+  ExpectUpdateThrows(drr.GetPointer(), { "NumberOfStrata", "not 1" }, "R = 1");
+  // 4 strata of fewer than 16 points: one run, and a warning that its standard error assumes independence.
+  drr->SetNumberOfStrata(4);
+  drr->SetNumberOfSamples(40);
+  OutputCapture capture;
+  ASSERT_NO_THROW(drr->Update());
+  EXPECT_EQ(capture->GetNumberOfWarnings(), 1u);
+  EXPECT_NE(capture->GetText().find("too few for 4 strata"), std::string::npos) << capture->GetText();
+  // Enough points: no warning.
+  capture->Clear();
+  drr->SetNumberOfSamples(64);
+  drr->Update();
+  EXPECT_EQ(capture->GetNumberOfWarnings(), 0u) << capture->GetText();
+}
+
 // ---------------------------------------------------------------------------------------------------------------------
 // Numerical extremes (DESIGN section 8).
 
