@@ -91,6 +91,19 @@ public:
    * Also selects the piecewise-linear mode. */
   void
   SetPiecewiseLinearPoints(const PointListType & points);
+  /** Appends one (input value, mu in 1/mm) point to the piecewise-linear function, after the last one (its value
+   * must be larger), and selects the piecewise-linear mode: the form ITK's Python wrapping can call, point by point. */
+  void
+  AddPiecewiseLinearPoint(double inputValue, double muPerMillimeter);
+  /** Removes every piecewise-linear point (the mode is unchanged; an empty piecewise-linear function throws on use). */
+  void
+  ClearPiecewiseLinearPoints();
+  /** Number of points of the piecewise-linear function. */
+  unsigned int
+  GetNumberOfPiecewiseLinearPoints() const
+  {
+    return static_cast<unsigned int>(m_PiecewiseLinearPoints.size());
+  }
   /** The (input value, mu in 1/mm) pairs of the piecewise-linear mode. */
   const PointListType &
   GetPiecewiseLinearPoints() const

@@ -121,6 +121,24 @@ DRRTransferFunction::SetPiecewiseLinearPoints(const PointListType & points)
   this->Modified();
 }
 
+void
+DRRTransferFunction::AddPiecewiseLinearPoint(double inputValue, double muPerMillimeter)
+{
+  PointListType points = m_PiecewiseLinearPoints;
+  points.emplace_back(inputValue, muPerMillimeter);
+  this->SetPiecewiseLinearPoints(points); // checks the new point against the last one
+}
+
+void
+DRRTransferFunction::ClearPiecewiseLinearPoints()
+{
+  if (!m_PiecewiseLinearPoints.empty())
+  {
+    m_PiecewiseLinearPoints.clear();
+    this->Modified();
+  }
+}
+
 double
 DRRTransferFunction::EvaluatePiecewiseLinear(double inputValue) const
 {

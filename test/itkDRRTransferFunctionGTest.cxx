@@ -232,6 +232,33 @@ TEST(DRRTransferFunctionPiecewiseLinear, SinglePointIsConstant)
   EXPECT_NEAR(tf->Evaluate(5000.0), 0.03, Tolerance(0.03));
 }
 
+TEST(DRRTransferFunctionPiecewiseLinear, PointByPointEqualsTheWholeList)
+{
+  // The wrapping-friendly form: one point at a time, checked against the last.
+  auto whole = TransferFunctionType::New();
+  whole->SetPiecewiseLinearPoints({ { -1000.0, 0.0 }, { 0.0, 0.02 }, { 1000.0, 0.05 } });
+  auto       pointwise = TransferFunctionType::New();
+  const auto before = pointwise->GetMTime();
+  pointwise->AddPiecewiseLinearPoint(-1000.0, 0.0);
+  pointwise->AddPiecewiseLinearPoint(0.0, 0.02);
+  pointwise->AddPiecewiseLinearPoint(1000.0, 0.05);
+  EXPECT_GT(pointwise->GetMTime(), before);
+  EXPECT_EQ(pointwise->GetMode(), ModeEnum::PiecewiseLinear);
+  EXPECT_EQ(pointwise->GetNumberOfPiecewiseLinearPoints(), 3u);
+  EXPECT_EQ(pointwise->GetPiecewiseLinearPoints(), whole->GetPiecewiseLinearPoints());
+  for (double hu : { -3000.0, -400.0, 250.0, 5000.0 })
+  {
+    EXPECT_EQ(pointwise->Evaluate(hu), whole->Evaluate(hu)) << hu;
+  }
+  // A value not after the last, or a negative mu, is refused and leaves the function as it was.
+  EXPECT_THROW(pointwise->AddPiecewiseLinearPoint(500.0, 0.1), itk::ExceptionObject);
+  EXPECT_THROW(pointwise->AddPiecewiseLinearPoint(2000.0, -0.1), itk::ExceptionObject);
+  EXPECT_EQ(pointwise->GetNumberOfPiecewiseLinearPoints(), 3u);
+  pointwise->ClearPiecewiseLinearPoints();
+  EXPECT_EQ(pointwise->GetNumberOfPiecewiseLinearPoints(), 0u);
+  EXPECT_THROW(pointwise->Evaluate(0.0), itk::ExceptionObject);
+}
+
 TEST(DRRTransferFunctionPiecewiseLinear, RejectsBadPoints)
 {
   auto tf = TransferFunctionType::New();
