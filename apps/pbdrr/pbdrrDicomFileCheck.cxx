@@ -73,7 +73,7 @@ public:
       }
       uint16_t group, element;
       uint32_t length;
-      ReadExplicitHeader(group, element, length);
+      ReadHeader(true, group, element, length); // the meta group is always explicit VR
       if (length == undefinedLength)
       {
         throw Unknown{};
@@ -99,10 +99,9 @@ public:
   void
   WalkDataSet(bool explicitVR)
   {
-    m_ExplicitVR = explicitVR;
     while (m_Position < m_Size)
     {
-      WalkElement(0, m_ExplicitVR);
+      WalkElement(0, explicitVR);
     }
   }
 
@@ -172,17 +171,19 @@ private:
     m_Position += bytes;
   }
 
-  /** Explicit VR header: tag, two VR letters, then a 16-bit length or two reserved bytes and a 32-bit length. */
+  /** An element header: the tag, then in explicit VR two VR letters and a 16-bit length, or two reserved bytes and
+   * a 32-bit length; in implicit VR (and for items and delimiters) a 32-bit length. */
   void
-  ReadExplicitHeader(uint16_t & group, uint16_t & element, uint32_t & length)
+  ReadHeader(bool explicitVR, uint16_t & group, uint16_t & element, uint32_t & length)
   {
     unsigned char b[8];
     Read(b, 8, "an element header");
     group = U16(b);
     element = U16(b + 2);
-    if (group == 0xFFFE)
+    m_LastVR = "";
+    if (!explicitVR || group == 0xFFFE)
     {
-      length = U32(b + 4); // items and delimiters have no VR
+      length = U32(b + 4);
       return;
     }
     const std::string        vr{ static_cast<char>(b[4]), static_cast<char>(b[5]) };
@@ -193,28 +194,16 @@ private:
       unsigned char l[4];
       Read(l, 4, "the length of element " + TagName(group, element));
       length = U32(l);
-      m_LastVR = vr;
     }
     else if (shortForm.find(" " + vr + " ") != std::string::npos)
     {
       length = U16(b + 6);
-      m_LastVR = vr;
     }
     else
     {
       throw Unknown{};
     }
-  }
-
-  void
-  ReadImplicitHeader(uint16_t & group, uint16_t & element, uint32_t & length)
-  {
-    unsigned char b[8];
-    Read(b, 8, "an element header");
-    group = U16(b);
-    element = U16(b + 2);
-    length = U32(b + 4);
-    m_LastVR = "";
+    m_LastVR = vr;
   }
 
   /** One element at the current position; sequences and encapsulated pixel data are walked item by item. Returns
@@ -228,14 +217,7 @@ private:
     }
     uint16_t group, element;
     uint32_t length;
-    if (explicitVR)
-    {
-      ReadExplicitHeader(group, element, length);
-    }
-    else
-    {
-      ReadImplicitHeader(group, element, length);
-    }
+    ReadHeader(explicitVR, group, element, length);
     if (group == 0xFFFE)
     {
       if (element == 0xE00D || element == 0xE0DD)
@@ -299,26 +281,27 @@ private:
   std::ifstream & m_Stream;
   uint64_t        m_Size;
   uint64_t        m_Position{ 0 };
-  bool            m_ExplicitVR{ true };
-  std::string     m_LastVR;
+  std::string     m_LastVR; // of the last element header read (empty in implicit VR)
 };
 } // namespace
+
+bool
+IsDicomPart10File(const std::string & path)
+{
+  std::ifstream stream(path, std::ios::binary);
+  char          preamble[132] = {};
+  return stream.read(preamble, sizeof(preamble)) && std::string(preamble + 128, 4) == "DICM";
+}
 
 std::string
 FindDicomTruncation(const std::string & path)
 {
+  if (!IsDicomPart10File(path))
+  {
+    return "";
+  }
   std::ifstream stream(path, std::ios::binary | std::ios::ate);
-  if (!stream)
-  {
-    return "";
-  }
-  const auto size = static_cast<uint64_t>(stream.tellg());
-  char       magic[4] = {};
-  stream.seekg(128);
-  if (size < 132 || !stream.read(magic, 4) || std::string(magic, 4) != "DICM")
-  {
-    return "";
-  }
+  const auto    size = static_cast<uint64_t>(stream.tellg());
   try
   {
     HeaderWalker      walker(stream, size);

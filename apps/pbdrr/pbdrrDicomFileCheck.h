@@ -32,6 +32,10 @@ namespace pbdrr
  * damage, e.g. "element (7fe0,0010) needs 524288 bytes at offset 1102, the file ends at 400000". */
 std::string
 FindDicomTruncation(const std::string & path);
+
+/** Whether the file starts as a DICOM Part 10 file: a 128-byte preamble, then "DICM". */
+bool
+IsDicomPart10File(const std::string & path);
 } // namespace pbdrr
 
 #endif

@@ -31,7 +31,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -101,9 +100,10 @@ struct Slice
 /** How the slices stack up along their normal. */
 struct SliceStack
 {
-  double Spacing{ 1.0 };     // mm between neighbouring slices
-  bool   Increasing{ true }; // given in increasing position along the normal
-  bool   Ordered{ true };    // given in increasing or decreasing order, not shuffled
+  Vector3 Normal{ { 0.0, 0.0, 1.0 } }; // row direction x column direction of the slices
+  double  Spacing{ 1.0 };              // mm between neighbouring slices
+  bool    Increasing{ true };          // given in increasing position along the normal
+  bool    Ordered{ true };             // given in increasing or decreasing order, not shuffled
 };
 
 /** Checks that the slices form one regular 3D grid: one orientation and size, positions along the normal (no gantry
@@ -131,9 +131,10 @@ CheckSliceStack(const std::vector<Slice> & slices, const std::string & what)
       Fail("the slices of " + what + " have different sizes (" + slice.Name + "): not one volume");
     }
   }
-  const Vector3       rowDirection{ first.Orientation[0], first.Orientation[1], first.Orientation[2] };
-  const Vector3       columnDirection{ first.Orientation[3], first.Orientation[4], first.Orientation[5] };
-  const Vector3       normal = Cross(rowDirection, columnDirection);
+  const Vector3 rowDirection{ first.Orientation[0], first.Orientation[1], first.Orientation[2] };
+  const Vector3 columnDirection{ first.Orientation[3], first.Orientation[4], first.Orientation[5] };
+  const Vector3 normal = Cross(rowDirection, columnDirection);
+  stack.Normal = normal;
   std::vector<double> depth(slices.size());
   for (size_t i = 0; i < slices.size(); ++i)
   {
@@ -392,9 +393,7 @@ enum class DicomContent
 DicomContent
 ClassifyFile(const std::string & file)
 {
-  std::ifstream stream(file, std::ios::binary);
-  char          preamble[132] = {};
-  if (!stream.read(preamble, sizeof(preamble)) || std::string(preamble + 128, 4) != "DICM")
+  if (!IsDicomPart10File(file))
   {
     return DicomContent::NotDicom;
   }
@@ -475,22 +474,29 @@ ReadFile(const std::string & path, const itk::ImageIOBase::Pointer & io)
   return image;
 }
 
-/** Refuses a directory that holds a DICOM file cut short, before GDCM reads it (GDCM may abort on such a file). */
-void
-RefuseTruncatedFiles(const std::string & directory)
+/** The regular files of a directory, sorted by name (so that messages name them in a stable order). */
+std::vector<std::string>
+SortedRegularFiles(const std::string & directory)
 {
-  std::vector<std::string> entries;
+  std::vector<std::string> files;
   for (const auto & entry : std::filesystem::directory_iterator(directory))
   {
     if (entry.is_regular_file())
     {
-      entries.push_back(entry.path().string());
+      files.push_back(entry.path().string());
     }
   }
-  std::sort(entries.begin(), entries.end());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/** Refuses a directory that holds a DICOM file cut short, before GDCM reads it (GDCM may abort on such a file). */
+void
+RefuseTruncatedFiles(const std::vector<std::string> & files, const std::string & directory)
+{
   std::vector<std::string> truncated;
   std::string              first;
-  for (const auto & file : entries)
+  for (const auto & file : files)
   {
     const std::string problem = FindDicomTruncation(file);
     if (!problem.empty())
@@ -583,18 +589,16 @@ ReadMultiFrameFile(const std::string & file, std::vector<std::string> & notes)
   }
   // Where the per-frame positions put the frames, whatever GDCM made of them: the first frame stored at the origin,
   // the third axis towards the next.
-  const Vector3 &       first = frames.front().Position;
-  const Vector3         normal = Cross({ frames[0].Orientation[0], frames[0].Orientation[1], frames[0].Orientation[2] },
-                               { frames[0].Orientation[3], frames[0].Orientation[4], frames[0].Orientation[5] });
-  const double          sign = stack.Increasing ? 1.0 : -1.0;
-  VolumeType::PointType origin;
+  const Vector3 &           first = frames.front().Position;
+  const double              sign = stack.Increasing ? 1.0 : -1.0;
+  VolumeType::PointType     origin;
   VolumeType::DirectionType direction;
   for (unsigned int r = 0; r < 3; ++r)
   {
     origin[r] = first[r];
     direction[r][0] = frames[0].Orientation[r];
     direction[r][1] = frames[0].Orientation[3 + r];
-    direction[r][2] = sign * normal[r];
+    direction[r][2] = sign * stack.Normal[r];
   }
   auto spacing = image->GetSpacing();
   spacing[2] = stack.Spacing;
@@ -637,8 +641,9 @@ ReadDicomFile(const std::string & file, std::vector<std::string> & notes)
 LoadedVolume
 LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
 {
-  LoadedVolume loaded;
-  RefuseTruncatedFiles(directory);
+  LoadedVolume                   loaded;
+  const std::vector<std::string> directoryFiles = SortedRegularFiles(directory);
+  RefuseTruncatedFiles(directoryFiles, directory);
   GdcmWarningCapture quiet; // GDCM's own errors while scanning: pbdrr words the problems itself
   auto               names = itk::GDCMSeriesFileNames::New();
   names->SetUseSeriesDetails(false);
@@ -654,17 +659,12 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
     taken.insert(files.begin(), files.end());
   }
   std::vector<std::string> damaged, withoutImage, otherImages, notDicom;
-  std::vector<std::string> entries;
-  for (const auto & entry : std::filesystem::directory_iterator(directory))
+  for (const auto & file : directoryFiles)
   {
-    if (entry.is_regular_file() && !taken.count(entry.path().string()))
+    if (taken.count(file))
     {
-      entries.push_back(entry.path().string());
+      continue;
     }
-  }
-  std::sort(entries.begin(), entries.end());
-  for (const auto & file : entries)
-  {
     switch (ClassifyFile(file))
     {
       case DicomContent::Damaged:
