@@ -274,32 +274,36 @@ WriteSeries(const fs::path &               directory,
   }
 }
 
+/** A data element of a string VR, padded to an even length as DICOM wants (UI with a NUL, the others a space). */
+gdcm::DataElement
+MakeElement(const gdcm::Tag & tag, const gdcm::VR::VRType vr, const std::string & value)
+{
+  gdcm::DataElement element(tag);
+  element.SetVR(vr);
+  std::string padded = value;
+  if (padded.size() % 2)
+  {
+    padded.push_back(vr == gdcm::VR::UI ? '\0' : ' ');
+  }
+  element.SetByteValue(padded.data(), static_cast<uint32_t>(padded.size()));
+  return element;
+}
+
 /** A DICOM object without pixel data (a Basic Text SR, as a dose report stored beside the slices). */
 void
 WriteReport(const fs::path & file, const std::string & seriesUID, const std::string & instanceUID)
 {
-  gdcm::Writer      writer;
-  gdcm::File &      dicom = writer.GetFile();
-  gdcm::DataSet &   dataSet = dicom.GetDataSet();
-  const std::string sopClass = "1.2.840.10008.5.1.4.1.1.88.11"; // Basic Text SR Storage
-  auto              put = [&](uint16_t group, uint16_t element, const char * vr, const std::string & value) {
-    gdcm::DataElement data(gdcm::Tag(group, element));
-    data.SetVR(gdcm::VR::GetVRType(vr));
-    std::string padded = value;
-    if (padded.size() % 2)
-    {
-      padded.push_back(std::string(vr) == "UI" ? '\0' : ' ');
-    }
-    data.SetByteValue(padded.data(), static_cast<uint32_t>(padded.size()));
-    dataSet.Insert(data);
-  };
-  put(0x0008, 0x0016, "UI", sopClass);
-  put(0x0008, 0x0018, "UI", instanceUID);
-  put(0x0008, 0x0060, "CS", "SR");
-  put(0x0010, 0x0010, "PN", "PBDRR^TEST");
-  put(0x0020, 0x000d, "UI", studyUID);
-  put(0x0020, 0x000e, "UI", seriesUID);
-  put(0x0040, 0xa040, "CS", "CONTAINER");
+  gdcm::Writer    writer;
+  gdcm::File &    dicom = writer.GetFile();
+  gdcm::DataSet & dataSet = dicom.GetDataSet();
+  dataSet.Insert(
+    MakeElement(gdcm::Tag(0x0008, 0x0016), gdcm::VR::UI, "1.2.840.10008.5.1.4.1.1.88.11")); // Basic Text SR
+  dataSet.Insert(MakeElement(gdcm::Tag(0x0008, 0x0018), gdcm::VR::UI, instanceUID));
+  dataSet.Insert(MakeElement(gdcm::Tag(0x0008, 0x0060), gdcm::VR::CS, "SR"));
+  dataSet.Insert(MakeElement(gdcm::Tag(0x0010, 0x0010), gdcm::VR::PN, "PBDRR^TEST"));
+  dataSet.Insert(MakeElement(gdcm::Tag(0x0020, 0x000d), gdcm::VR::UI, studyUID));
+  dataSet.Insert(MakeElement(gdcm::Tag(0x0020, 0x000e), gdcm::VR::UI, seriesUID));
+  dataSet.Insert(MakeElement(gdcm::Tag(0x0040, 0xa040), gdcm::VR::CS, "CONTAINER"));
   dicom.GetHeader().SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
   writer.SetCheckFileMetaInformation(true);
   writer.SetFileName(file.string().c_str());
@@ -365,21 +369,6 @@ WriteMultiFrame(const fs::path & file, const std::string & seriesUID, bool desce
   writer->Update();
 }
 
-/** A DS value element. */
-gdcm::DataElement
-DecimalStrings(const gdcm::Tag & tag, const std::string & value)
-{
-  gdcm::DataElement element(tag);
-  element.SetVR(gdcm::VR::DS);
-  std::string padded = value;
-  if (padded.size() % 2)
-  {
-    padded.push_back(' ');
-  }
-  element.SetByteValue(padded.data(), static_cast<uint32_t>(padded.size()));
-  return element;
-}
-
 /** Rewrites a multi-frame file in place: positions(k) gives frame k's Image Position (Patient); with
  * `dropPositions` the functional groups are removed instead and the geometry written as top-level elements, with
  * `topLevelSpacing` (if not empty) as the Spacing Between Slices. */
@@ -403,20 +392,17 @@ EditFrames(const fs::path &                               file,
     // A legacy multi-frame object: no functional groups, the geometry in top-level elements.
     dataSet.Remove(perFrameTag);
     dataSet.Remove(sharedTag);
-    dataSet.Replace(DecimalStrings(gdcm::Tag(0x0020, 0x0032), "-6.75\\-6.75\\-10"));
-    dataSet.Replace(DecimalStrings(gdcm::Tag(0x0020, 0x0037), "1\\0\\0\\0\\1\\0"));
-    dataSet.Replace(DecimalStrings(gdcm::Tag(0x0028, 0x0030), "0.9\\0.9"));
+    dataSet.Replace(MakeElement(gdcm::Tag(0x0020, 0x0032), gdcm::VR::DS, "-6.75\\-6.75\\-10"));
+    dataSet.Replace(MakeElement(gdcm::Tag(0x0020, 0x0037), gdcm::VR::DS, "1\\0\\0\\0\\1\\0"));
+    dataSet.Replace(MakeElement(gdcm::Tag(0x0028, 0x0030), gdcm::VR::DS, "0.9\\0.9"));
     if (!topLevelSpacing.empty())
     {
-      dataSet.Replace(DecimalStrings(gdcm::Tag(0x0018, 0x0088), topLevelSpacing));
+      dataSet.Replace(MakeElement(gdcm::Tag(0x0018, 0x0088), gdcm::VR::DS, topLevelSpacing));
     }
     if (legacyClass)
     {
-      const std::string ct = "1.2.840.10008.5.1.4.1.1.2"; // CT Image Storage, not Enhanced CT
-      gdcm::DataElement sopClass(gdcm::Tag(0x0008, 0x0016));
-      sopClass.SetVR(gdcm::VR::UI);
-      sopClass.SetByteValue((ct + '\0').data(), static_cast<uint32_t>(ct.size() + 1));
-      dataSet.Replace(sopClass);
+      // CT Image Storage, not Enhanced CT.
+      dataSet.Replace(MakeElement(gdcm::Tag(0x0008, 0x0016), gdcm::VR::UI, "1.2.840.10008.5.1.4.1.1.2"));
       reader.GetFile().GetHeader().Clear();
     }
   }
@@ -431,7 +417,7 @@ EditFrames(const fs::path &                               file,
       gdcm::SmartPointer<gdcm::SequenceOfItems> planeItems = plane.GetValueAsSQ();
       const Vector3                             position = positions(k);
       planeItems->GetItem(1).GetNestedDataSet().Replace(
-        DecimalStrings(gdcm::Tag(0x0020, 0x0032), Join(position.data(), 3)));
+        MakeElement(gdcm::Tag(0x0020, 0x0032), gdcm::VR::DS, Join(position.data(), 3)));
       plane.SetValue(*planeItems);
       plane.SetVLToUndefined();
       groups.Replace(plane);
