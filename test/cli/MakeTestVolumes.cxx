@@ -94,23 +94,18 @@ FreshDirectory(const fs::path & path)
   return path;
 }
 
-void
-WritePhantom(const fs::path & file)
+/** A short volume of the given grid (mm), its voxel (x, y, z) set to value(x, y, z). */
+itk::Image<short, 3>::Pointer
+MakeShortVolume(const itk::Size<3> &                                       size,
+                const std::array<double, 3> &                              spacing,
+                const std::array<double, 3> &                              origin,
+                const std::function<short(unsigned, unsigned, unsigned)> & value)
 {
   using ImageType = itk::Image<short, 3>;
-  auto                   image = ImageType::New();
-  ImageType::SizeType    size{ { 16, 16, 12 } };
-  ImageType::SpacingType spacing;
-  spacing[0] = 1.0;
-  spacing[1] = 1.0;
-  spacing[2] = 1.5;
+  auto image = ImageType::New();
   image->SetRegions(size);
-  image->SetSpacing(spacing);
-  ImageType::PointType origin;
-  origin[0] = -7.5;
-  origin[1] = -7.5;
-  origin[2] = -8.25;
-  image->SetOrigin(origin);
+  image->SetSpacing(spacing.data());
+  image->SetOrigin(origin.data());
   image->Allocate();
   for (unsigned z = 0; z < size[2]; ++z)
   {
@@ -118,10 +113,20 @@ WritePhantom(const fs::path & file)
     {
       for (unsigned x = 0; x < size[0]; ++x)
       {
-        image->SetPixel({ { x, y, z } }, PhantomValue(x - 7.5, y - 7.5));
+        image->SetPixel({ { x, y, z } }, value(x, y, z));
       }
     }
   }
+  return image;
+}
+
+void
+WritePhantom(const fs::path & file)
+{
+  const auto image = MakeShortVolume({ { 16, 16, 12 } },
+                                     { { 1.0, 1.0, 1.5 } },
+                                     { { -7.5, -7.5, -8.25 } },
+                                     [](unsigned x, unsigned y, unsigned) { return PhantomValue(x - 7.5, y - 7.5); });
   itk::WriteImage(image, file.string());
 }
 
@@ -328,30 +333,10 @@ void
 WriteMultiFrame(const fs::path & file, const std::string & seriesUID, bool descending = false)
 {
   using ImageType = itk::Image<short, 3>;
-  auto                   image = ImageType::New();
-  ImageType::SizeType    size{ { 16, 16, 8 } };
-  ImageType::SpacingType spacing;
-  spacing[0] = 0.9;
-  spacing[1] = 0.9;
-  spacing[2] = 2.5;
-  ImageType::PointType origin;
-  origin[0] = -6.75;
-  origin[1] = -6.75;
-  origin[2] = -10.0;
-  image->SetRegions(size);
-  image->SetSpacing(spacing);
-  image->SetOrigin(origin);
-  image->Allocate();
-  for (unsigned z = 0; z < size[2]; ++z)
-  {
-    for (unsigned y = 0; y < size[1]; ++y)
-    {
-      for (unsigned x = 0; x < size[0]; ++x)
-      {
-        image->SetPixel({ { x, y, z } }, MultiFrameValue(x, y, descending ? 7 - z : z));
-      }
-    }
-  }
+  const auto image = MakeShortVolume(
+    { { 16, 16, 8 } }, { { 0.9, 0.9, 2.5 } }, { { -6.75, -6.75, -10.0 } }, [&](unsigned x, unsigned y, unsigned z) {
+      return MultiFrameValue(x, y, descending ? 7 - z : z);
+    });
   auto io = itk::GDCMImageIO::New();
   io->KeepOriginalUIDOn();
   itk::MetaDataDictionary dictionary;
