@@ -18,6 +18,8 @@
 #ifndef itkDRRBilinearSplat_h
 #define itkDRRBilinearSplat_h
 
+#include "itkPointBasedDRREnums.h"
+
 #include <algorithm>
 #include <cstdint>
 
@@ -32,6 +34,13 @@ namespace itk
  */
 struct DRRBilinearSplat
 {
+  /** The enumerator that selects this splat. */
+  static constexpr PointBasedDRREnums::Splat Id = PointBasedDRREnums::Splat::Bilinear;
+  /** Its name on the command line. */
+  static constexpr const char * Name = "bilinear";
+  /** One line for the help. */
+  static constexpr const char * Description = "shared among the 4 nearest pixel centres: less noise, a one-pixel blur";
+
   /** The pixel centres a point reaches are less than 1 pixel away from it along each axis. */
   static constexpr double Reach = 1.0;
   /** A point is shared among up to 4 pixels. */

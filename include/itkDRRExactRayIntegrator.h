@@ -48,7 +48,8 @@ public:
   /** Box (Siddon) or Tent (trilinear) voxel model. */
   using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
 
-  /** Integrates through the box or tent model of a volume, which must outlive the integrator (it is not copied). */
+  /** Integrates through the box or tent model of a volume, which must outlive the integrator (it is not copied); throws
+   * ExceptionObject for a kernel whose model has no exact projector here (DRRBoxKernel::ExactReference). */
   DRRExactRayIntegrator(const DRRAttenuationVolume & volume, KernelEnum kernel);
 
   /** Integral of mu over the parameter t in [0, 1] of the segment p0 -> p1 (continuous index coordinates): multiply
@@ -74,7 +75,7 @@ private:
   Trilinear(const int64_t corner[3], const double fraction[3]) const;
 
   const DRRAttenuationVolume & m_Volume;
-  KernelEnum                   m_Kernel;
+  bool                         m_Siddon;    // the box model's Siddon traversal, or else the trilinear one
   double                       m_GridStart; // continuous index of the first grid plane
   int64_t                      m_NumberOfCells[3];
 };

@@ -18,6 +18,8 @@
 #ifndef itkDRRNearestSplat_h
 #define itkDRRNearestSplat_h
 
+#include "itkPointBasedDRREnums.h"
+
 #include <cstdint>
 
 namespace itk
@@ -25,16 +27,24 @@ namespace itk
 /** \class DRRNearestSplat
  * \brief Splat policy: the whole point goes to the pixel that contains it (unbiased for the pixel-area average).
  *
- * A splat policy provides Reach (how far from a point, in pixels, the pixel centres it reaches can be), Corners (how
- * many pixels a point can reach) and Locate(column, row, columns, rows, pixel, share): for each corner the pixel index
- * (columns fastest) and the share of the point's weight, or pixel -1 and share 0 off the detector. Locate() must be
- * branch-free (selects, no early exits) so that the renderer's loop over a batch vectorizes. Register a new policy
- * with one case in WithSplat() in itkDRRPointRenderer.cxx.
+ * A splat policy provides who it is (Id, its enumerator; Name and Description, for the command line), Reach (how far
+ * from a point, in pixels, the pixel centres it reaches can be), Corners (how many pixels a point can reach) and
+ * Locate(column, row, columns, rows, pixel, share): for each corner the pixel index (columns fastest) and the share of
+ * the point's weight, or pixel -1 and share 0 off the detector. Locate() must be branch-free (selects, no early exits)
+ * so that the renderer's loop over a batch vectorizes. A new splat is its own header, an enumerator in
+ * PointBasedDRREnums::Splat and one line in DRRSplatPolicies (itkDRRPolicies.h).
  *
  * \ingroup PointBasedDRR
  */
 struct DRRNearestSplat
 {
+  /** The enumerator that selects this splat. */
+  static constexpr PointBasedDRREnums::Splat Id = PointBasedDRREnums::Splat::Nearest;
+  /** Its name on the command line. */
+  static constexpr const char * Name = "nearest";
+  /** One line for the help. */
+  static constexpr const char * Description = "the whole point to the pixel that contains it: unbiased";
+
   /** The pixel centre a point reaches is at most half a pixel away from it along each axis. */
   static constexpr double Reach = 0.5;
   /** A point goes to one pixel. */

@@ -27,8 +27,12 @@
 namespace itk
 {
 /** \class DRRSamplerFactory
- * \brief The samplers a user can pick by name (the CLI's --sampler), each registered by one line in
- * itkDRRSamplerFactory.cxx.
+ * \brief The registry of samplers: the ones a user can pick by name (the CLI's --sampler), each registered by one entry
+ * in itkDRRSamplerFactory.cxx.
+ *
+ * The registry is the one list of samplers: pbdrr's help and parsing, the tests that run every sampler (unbiasedness,
+ * reuse, robustness, fuzzing) and the checks of the wrapping, the README and docs/wrapping.md are derived from it or
+ * checked against it (test PointBasedDRR.PolicyRegistry). A new sampler is its own class and one entry here.
  *
  * Names: `level-alias` (DRRLevelAliasSampler, the default), `stratified` (DRRStratifiedSampler), `metropolis`
  * (DRRMetropolisSampler), `paper-hybrid` (DRRPaperHybridSampler), `mcvr` (DRRUniformVolumeSampler).
@@ -49,15 +53,19 @@ public:
     std::string Name;                     ///< what Create() and the CLI's --sampler take, e.g. `level-alias`
     std::string Description;              ///< one line for the CLI's help
     DRRPointSampler::Pointer (*Create)(); ///< makes a new sampler with its default settings
+    /** Makes the sampler as the paper runs it, with the paper's own (biased) counting where that differs from the
+     * default (pbdrr --paper-count); null where the sampler has no such variant. */
+    DRRPointSampler::Pointer (*CreatePaperVariant)() = nullptr;
   };
 
   /** Every registered sampler, in registration order. */
   static const std::vector<Entry> &
   GetEntries();
 
-  /** A new sampler of that name; throws ExceptionObject listing the names for an unknown one. */
+  /** A new sampler of that name (its paper variant if paperVariant and it has one); throws ExceptionObject listing the
+   * names for an unknown one. */
   static DRRPointSampler::Pointer
-  Create(const std::string & name);
+  Create(const std::string & name, bool paperVariant = false);
 
   /** The registered names, comma separated. */
   static std::string

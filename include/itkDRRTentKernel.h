@@ -19,6 +19,7 @@
 #define itkDRRTentKernel_h
 
 #include "itkDRRPhiloxRandom.h"
+#include "itkPointBasedDRREnums.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,6 +35,15 @@ namespace itk
  */
 struct DRRTentKernel
 {
+  /** The enumerator that selects this kernel. */
+  static constexpr PointBasedDRREnums::ReconstructionKernel Id = PointBasedDRREnums::ReconstructionKernel::Tent;
+  /** Its name on the command line. */
+  static constexpr const char * Name = "tent";
+  /** One line for the help. */
+  static constexpr const char * Description = "voxel centre plus a triangular offset per axis: the trilinear model";
+  /** The exact projector of the trilinear model: the dual-grid traversal with 2-point Gauss-Legendre. */
+  static constexpr const char * ExactReference = "trilinear";
+
   /** A point stays within one voxel of its voxel centre along each axis. */
   static constexpr double Reach = 1.0;
 

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRExactRayIntegrator.h"
+#include "itkDRRPolicies.h"
 #include "itkDRRWorkScheduler.h"
 
 #include <algorithm>
@@ -24,15 +25,24 @@
 
 namespace itk
 {
-DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume, KernelEnum kernel)
-  : m_Volume(volume), m_Kernel(kernel)
+DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume, KernelEnum kernel) : m_Volume(volume)
 {
+  // The registry says which exact projector a kernel's model has; this class implements Siddon's and the trilinear one.
+  const std::string reference = DRRPolicies::Kernels::Visit(kernel, [](auto policy) {
+    return std::string(decltype(policy)::ExactReference ? decltype(policy)::ExactReference : "");
+  });
+  if (reference != "siddon" && reference != "trilinear")
+  {
+    itkGenericExceptionMacro("DRRExactRayIntegrator: the " << DRRPolicies::Kernels::GetName(kernel)
+                                                           << " kernel has no exact projector");
+  }
+  m_Siddon = reference == "siddon";
   // Box: cells are the voxels, planes at -0.5 .. n - 0.5. Tent: cells lie between the centres of the zero-padded
   // grid, planes at -1 .. n; cell c spans [c - 1, c] and its lower corner is voxel c - 1.
-  m_GridStart = kernel == KernelEnum::Box ? -0.5 : -1.0;
+  m_GridStart = m_Siddon ? -0.5 : -1.0;
   for (unsigned int a = 0; a < 3; ++a)
   {
-    m_NumberOfCells[a] = static_cast<int64_t>(volume.GetSize()[a]) + (kernel == KernelEnum::Box ? 0 : 1);
+    m_NumberOfCells[a] = static_cast<int64_t>(volume.GetSize()[a]) + (m_Siddon ? 0 : 1);
   }
 }
 
@@ -126,7 +136,7 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) 
     const double       tEnd = std::min(tNext[axis], tExit);
     if (tEnd > t)
     {
-      if (m_Kernel == KernelEnum::Box)
+      if (m_Siddon)
       {
         integral += (tEnd - t) * mu[static_cast<uint64_t>(cell[0]) + nx * static_cast<uint64_t>(cell[1]) +
                                     nxy * static_cast<uint64_t>(cell[2])];

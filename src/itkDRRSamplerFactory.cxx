@@ -32,6 +32,15 @@ Make()
 {
   return TSampler::New().GetPointer();
 }
+
+/** The paper's Algorithm 1 as published: points counted without the weights that make it unbiased. */
+DRRPointSampler::Pointer
+MakeUnweightedPaperHybrid()
+{
+  auto sampler = DRRPaperHybridSampler::New();
+  sampler->SetUseExactWeights(false);
+  return sampler.GetPointer();
+}
 } // namespace
 
 const std::vector<DRRSamplerFactory::Entry> &
@@ -39,16 +48,17 @@ DRRSamplerFactory::GetEntries()
 {
   static const std::vector<Entry> entries = {
     { "level-alias",
-      "exact importance sampling by attenuation level (alias table), O(1) per point",
+      "exact importance sampling: a level by alias table, a voxel uniform in it",
       &Make<DRRLevelAliasSampler> },
     { "paper-hybrid",
-      "the paper's Algorithm 1 (uniform level, accept p(l), Russian roulette), exact weights",
-      &Make<DRRPaperHybridSampler> },
+      "the paper's Algorithm 1 (uniform level, accept, roulette) with exact weights",
+      &Make<DRRPaperHybridSampler>,
+      &MakeUnweightedPaperHybrid },
     { "metropolis",
-      "the paper's Markov chain over levels (section 2.2.2), started in its stationary law",
+      "the paper's Markov chain over levels, started in its stationary law",
       &Make<DRRMetropolisSampler> },
     { "stratified",
-      "systematic sampling of the mass along a Morton curve: even spread, unbiased, beyond the paper",
+      "systematic along a Morton curve of the mass, culled to the view: least noise",
       &Make<DRRStratifiedSampler> },
     { "mcvr", "Monte Carlo volume rendering baseline: uniform voxels weighted by mu", &Make<DRRUniformVolumeSampler> },
   };
@@ -56,13 +66,13 @@ DRRSamplerFactory::GetEntries()
 }
 
 DRRPointSampler::Pointer
-DRRSamplerFactory::Create(const std::string & name)
+DRRSamplerFactory::Create(const std::string & name, bool paperVariant)
 {
   for (const Entry & entry : GetEntries())
   {
     if (entry.Name == name)
     {
-      return entry.Create();
+      return paperVariant && entry.CreatePaperVariant ? entry.CreatePaperVariant() : entry.Create();
     }
   }
   itkGenericExceptionMacro("unknown sampler '" << name << "' (known: " << GetNames() << ")");

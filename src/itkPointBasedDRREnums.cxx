@@ -16,25 +16,26 @@
  *
  *=========================================================================*/
 #include "itkPointBasedDRREnums.h"
+#include "itkDRRPolicies.h"
 
 namespace itk
 {
 std::ostream &
 operator<<(std::ostream & out, const PointBasedDRREnums::Projection value)
 {
-  return out << (value == PointBasedDRREnums::Projection::Perspective ? "Perspective" : "Parallel");
+  return out << DRRPolicies::Beams::GetEnumeratorName(value);
 }
 
 std::ostream &
 operator<<(std::ostream & out, const PointBasedDRREnums::ReconstructionKernel value)
 {
-  return out << (value == PointBasedDRREnums::ReconstructionKernel::Box ? "Box" : "Tent");
+  return out << DRRPolicies::Kernels::GetEnumeratorName(value);
 }
 
 std::ostream &
 operator<<(std::ostream & out, const PointBasedDRREnums::Splat value)
 {
-  return out << (value == PointBasedDRREnums::Splat::Nearest ? "Nearest" : "Bilinear");
+  return out << DRRPolicies::Splats::GetEnumeratorName(value);
 }
 
 std::ostream &

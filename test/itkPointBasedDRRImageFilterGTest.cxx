@@ -22,6 +22,7 @@
 #include "itkExactDRRImageFilter.h"
 #include "itkAffineTransform.h"
 #include "itkDRRPhiloxRandom.h"
+#include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkDRRLevelAliasSampler.h"
 #include "itkDRRPaperHybridSampler.h"
@@ -385,21 +386,24 @@ TEST_P(PointBasedDRRUnbiased, MeanMatchesExactReferenceAndSpreadMatchesStandardE
 std::vector<Scenario>
 AllScenarios()
 {
+  // Every registered beam x kernel x splat with the default sampler, then every other registered sampler.
   std::vector<Scenario> scenarios;
-  for (auto projection : { ProjectionEnum::Perspective, ProjectionEnum::Parallel })
+  for (const auto & beam : itk::DRRPolicies::Beams::GetEntries())
   {
-    for (auto kernel : { KernelEnum::Box, KernelEnum::Tent })
+    for (const auto & kernel : itk::DRRPolicies::Kernels::GetEntries())
     {
-      for (auto splat : { SplatEnum::Nearest, SplatEnum::Bilinear })
+      for (const auto & splat : itk::DRRPolicies::Splats::GetEntries())
       {
-        scenarios.push_back({ projection, kernel, splat, false, false });
+        scenarios.push_back({ beam.Id, kernel.Id, splat.Id, false, false });
       }
     }
   }
   scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Nearest, true, false });
   scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Box, SplatEnum::Bilinear, false, true });
-  for (const char * sampler : { "paper-hybrid", "mcvr", "stratified", "metropolis" })
+  const auto & samplers = itk::DRRSamplerFactory::GetEntries();
+  for (auto entry = std::next(samplers.begin()); entry != samplers.end(); ++entry)
   {
+    const std::string & sampler = entry->Name;
     // Every kernel x splat, across both beams.
     scenarios.push_back({ ProjectionEnum::Perspective, KernelEnum::Tent, SplatEnum::Bilinear, false, false, sampler });
     scenarios.push_back({ ProjectionEnum::Parallel, KernelEnum::Box, SplatEnum::Nearest, false, false, sampler });

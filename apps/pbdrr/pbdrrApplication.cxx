@@ -19,6 +19,7 @@
 #include "pbdrrVolumeLoader.h"
 
 #include "itkCommand.h"
+#include "itkDRRPolicies.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRRMetropolisSampler.h"
 #include "itkDRROutputConversion.h"
@@ -428,7 +429,7 @@ Run(const Options & options)
     {
       throw UsageError("--stderr needs a float format (.mha, .nrrd, .nii, .tif), not .png");
     }
-    if (!options.exact.empty())
+    if (options.exact)
     {
       throw UsageError("--stderr: an exact render has no statistical error");
     }
@@ -467,31 +468,23 @@ Run(const Options & options)
 
   BaseFilterType::Pointer                                            filter;
   itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::Pointer pointBased;
-  if (options.exact.empty())
+  if (!options.exact)
   {
     pointBased = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::New();
     pointBased->SetNumberOfSamples(options.samples);
     pointBased->SetSeed(options.seed);
     pointBased->SetNumberOfStrata(options.strata);
-    pointBased->SetReconstructionKernel(options.kernel == "tent" ? itk::PointBasedDRREnums::ReconstructionKernel::Tent
-                                                                 : itk::PointBasedDRREnums::ReconstructionKernel::Box);
-    pointBased->SetSplat(options.splat == "bilinear" ? itk::PointBasedDRREnums::Splat::Bilinear
-                                                     : itk::PointBasedDRREnums::Splat::Nearest);
+    pointBased->SetReconstructionKernel(options.kernel);
+    pointBased->SetSplat(options.splat);
     pointBased->SetPointWeighting(options.paperCount ? itk::PointBasedDRREnums::PointWeighting::PaperCount
                                                      : itk::PointBasedDRREnums::PointWeighting::Unbiased);
-    auto sampler = itk::DRRSamplerFactory::Create(options.sampler);
-    if (auto * hybrid = dynamic_cast<itk::DRRPaperHybridSampler *>(sampler.GetPointer()))
-    {
-      hybrid->SetUseExactWeights(!options.paperCount);
-    }
-    pointBased->SetSampler(sampler);
+    pointBased->SetSampler(itk::DRRSamplerFactory::Create(options.sampler, options.paperCount));
     filter = pointBased.GetPointer();
   }
   else
   {
     auto exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
-    exact->SetReconstructionKernel(options.exact == "trilinear" ? itk::PointBasedDRREnums::ReconstructionKernel::Tent
-                                                                : itk::PointBasedDRREnums::ReconstructionKernel::Box);
+    exact->SetReconstructionKernel(*options.exact);
     exact->SetRaysPerPixelSide(options.raysPerSide);
     filter = exact.GetPointer();
   }
@@ -524,7 +517,7 @@ Run(const Options & options)
   start = Clock::now();
   filter->Update();
   progress.Finish();
-  stages.emplace_back(options.exact.empty() ? "sample+project" : "exact projection", SecondsSince(start));
+  stages.emplace_back(!options.exact ? "sample+project" : "exact projection", SecondsSince(start));
   const ProjectionType * image = filter->GetOutput();
   if (chatty && std::all_of(image->GetBufferPointer(),
                             image->GetBufferPointer() + image->GetBufferedRegion().GetNumberOfPixels(),
@@ -547,7 +540,8 @@ Run(const Options & options)
     if (pointBased)
     {
       std::cerr << "pbdrr: sampler " << options.sampler << ", samples " << options.samples << ", seed " << options.seed
-                << ", kernel " << options.kernel << ", splat " << options.splat << ", attenuation mass M "
+                << ", kernel " << itk::DRRPolicies::Kernels::GetName(options.kernel) << ", splat "
+                << itk::DRRPolicies::Splats::GetName(options.splat) << ", attenuation mass M "
                 << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
                 << std::endl;
       if (const auto * chain = dynamic_cast<const itk::DRRMetropolisSampler *>(pointBased->GetSampler()))

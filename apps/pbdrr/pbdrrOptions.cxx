@@ -16,16 +16,28 @@
  *
  *=========================================================================*/
 #include "pbdrrOptions.h"
+#include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <sstream>
 #include <map>
 
 namespace pbdrr
 {
+std::string
+ExactReferenceName(itk::PointBasedDRREnums::ReconstructionKernel kernel)
+{
+  return itk::DRRPolicies::Kernels::Visit(kernel, [](auto policy) {
+    using Kernel = decltype(policy);
+    return std::string(Kernel::ExactReference ? Kernel::ExactReference : "");
+  });
+}
+
 double
 ParseNumber(const std::string & text, const std::string & flag)
 {
@@ -78,22 +90,58 @@ Numbers(const std::vector<std::string> & values, const std::string & flag)
   return numbers;
 }
 
-std::string
-OneOf(const std::string & value, const std::string & flag, const std::vector<std::string> & allowed)
+[[noreturn]] void
+ThrowNotOneOf(const std::string & value, const std::string & flag, const std::vector<std::string> & allowed)
 {
-  for (const auto & a : allowed)
-  {
-    if (value == a)
-    {
-      return value;
-    }
-  }
   std::string list;
   for (const auto & a : allowed)
   {
     list += (list.empty() ? "" : ", ") + a;
   }
   throw UsageError(flag + " expects one of " + list + ", got '" + value + "'");
+}
+
+std::string
+OneOf(const std::string & value, const std::string & flag, const std::vector<std::string> & allowed)
+{
+  if (std::find(allowed.begin(), allowed.end(), value) == allowed.end())
+  {
+    ThrowNotOneOf(value, flag, allowed);
+  }
+  return value;
+}
+
+/** The enumerator of the registered policy named value (e.g. DRRPolicies::Kernels, `tent`). */
+template <typename TPolicies>
+typename TPolicies::EnumType
+Policy(const std::string & value, const std::string & flag)
+{
+  typename TPolicies::EnumType id{};
+  if (!TPolicies::FindByName(value, id))
+  {
+    ThrowNotOneOf(value, flag, TPolicies::GetNames());
+  }
+  return id;
+}
+
+/** --exact NAME: the kernel whose exact projector is called NAME (DRRBoxKernel::ExactReference). */
+itk::PointBasedDRREnums::ReconstructionKernel
+ExactReferenceKernel(const std::string & value)
+{
+  std::vector<std::string> references;
+  for (const auto & entry : itk::DRRPolicies::Kernels::GetEntries())
+  {
+    const std::string reference = ExactReferenceName(entry.Id);
+    if (reference == value)
+    {
+      return entry.Id;
+    }
+    if (!reference.empty())
+    {
+      references.push_back(reference);
+    }
+  }
+  ThrowNotOneOf(value, "--exact", references);
 }
 
 /** A length in mm within what a radiograph can mean: 1 nm to 10 km. */
@@ -171,15 +219,8 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--samples", { 1, [&](const auto & v) { options.samples = ParseSampleCount(v[0]); } } },
     { "--sampler", { 1, [&](const auto & v) { options.sampler = OneOf(v[0], "--sampler", SamplerNames()); } } },
     { "--kernel",
-      { 1,
-        [&](const auto & v) {
-          options.kernel = OneOf(v[0], "--kernel", { "box", "tent" });
-        } } },
-    { "--splat",
-      { 1,
-        [&](const auto & v) {
-          options.splat = OneOf(v[0], "--splat", { "nearest", "bilinear" });
-        } } },
+      { 1, [&](const auto & v) { options.kernel = Policy<itk::DRRPolicies::Kernels>(v[0], "--kernel"); } } },
+    { "--splat", { 1, [&](const auto & v) { options.splat = Policy<itk::DRRPolicies::Splats>(v[0], "--splat"); } } },
     { "--seed",
       { 1,
         [&](const auto & v) {
@@ -207,11 +248,7 @@ ParseCommandLine(const std::vector<std::string> & arguments)
           options.outputMode = OneOf(v[0], "--output-mode", { "line-integral", "transmission", "gray8", "gray16" });
         } } },
     { "--window", { 2, [&](const auto & v) { options.window = Numbers<2>(v, "--window"); } } },
-    { "--exact",
-      { 1,
-        [&](const auto & v) {
-          options.exact = OneOf(v[0], "--exact", { "siddon", "trilinear" });
-        } } },
+    { "--exact", { 1, [&](const auto & v) { options.exact = ExactReferenceKernel(v[0]); } } },
     { "--ss", { 1, [&](const auto & v) { options.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } } },
     { "--quiet", { 0, [&](const auto &) { options.quiet = true; } } },
     { "-q", { 0, [&](const auto &) { options.quiet = true; } } },
@@ -265,17 +302,58 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   {
     throw UsageError("--energy and --mu-water both set mu_water: give one");
   }
-  if (!options.exact.empty() && options.paperCount)
+  if (options.exact && options.paperCount)
   {
     throw UsageError("--paper-count applies to point sampling, not to --exact");
   }
   return options;
 }
 
+namespace
+{
+/** The help's entry of one kind of policy: the option, what it chooses and its default (the first registered), then
+ * a line per name with its description. */
+template <typename TEntries>
+std::string
+PolicyLines(const std::string & option, const std::string & what, const TEntries & entries)
+{
+  size_t width = 0;
+  for (const auto & entry : entries)
+  {
+    width = std::max(width, entry.Name.size());
+  }
+  std::ostringstream lines;
+  lines << "  " << option << std::string(23 - option.size(), ' ') << what << " (default " << entries.front().Name
+        << "):\n";
+  for (const auto & entry : entries)
+  {
+    lines << "                           " << entry.Name << std::string(width + 2 - entry.Name.size(), ' ')
+          << entry.Description << "\n";
+  }
+  return lines.str();
+}
+
+std::string
+ExactReferenceLines()
+{
+  std::string lines;
+  for (const auto & entry : itk::DRRPolicies::Kernels::GetEntries())
+  {
+    const std::string reference = ExactReferenceName(entry.Id);
+    if (!reference.empty())
+    {
+      lines += "                           " + reference + ": the exact projector of the " + entry.Name + " model\n";
+    }
+  }
+  return lines;
+}
+} // namespace
+
 std::string
 HelpText()
 {
-  return R"(pbdrr - digitally reconstructed radiographs by unbiased Monte Carlo point sampling (PointBasedDRR)
+  return std::string(
+           R"(pbdrr - digitally reconstructed radiographs by unbiased Monte Carlo point sampling (PointBasedDRR)
 
 Usage: pbdrr INPUT -o OUTPUT [options]
 
@@ -300,20 +378,18 @@ Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = 
 
 Rendering:
   --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default 10M)
-  --sampler NAME         level-alias (default: exact importance sampling by attenuation level, O(1) per point),
-                         paper-hybrid (the paper's Algorithm 1 with exact weights), metropolis (the paper's
-                         chain over levels), stratified (systematic along a Morton curve: least noise),
-                         mcvr (uniform voxels weighted by mu, the Monte Carlo volume rendering baseline)
-  --kernel box|tent      voxel model: box (piecewise constant, default) or tent (trilinear)
-  --splat nearest|bilinear
-  --strata R             independent strata for stratified/metropolis (default: 4 and 16): fewer, less error;
+)") + PolicyLines("--sampler NAME", "how points are drawn", itk::DRRSamplerFactory::GetEntries()) +
+         PolicyLines("--kernel NAME", "where in its voxel a point goes", itk::DRRPolicies::Kernels::GetEntries()) +
+         PolicyLines("--splat NAME", "how a point lands on the detector", itk::DRRPolicies::Splats::GetEntries()) +
+         R"(  --strata R             independent strata for stratified/metropolis (default: 4 and 16): fewer, less error;
                          more, a steadier standard-error image
   --seed S               random seed (default 0): the same seed gives the same image on any thread count
   --threads T            worker threads (default: all cores)
   --paper-count          count points unweighted, as the paper does (biased in perspective, and for
                          paper-hybrid biased towards small dense levels)
-  --exact siddon|trilinear   render with the exact projector instead (box or tent model), no noise
-  --ss K                 with --exact: K x K rays per pixel (default 1)
+  --exact NAME           render with an exact projector instead of points, no noise:
+)" + ExactReferenceLines() +
+         R"(  --ss K                 with --exact: K x K rays per pixel (default 1)
 
 Physics:
   --input-units hu|mu    voxels in Hounsfield units (default) or linear attenuation in 1/mm

@@ -18,6 +18,8 @@
 #ifndef pbdrrOptions_h
 #define pbdrrOptions_h
 
+#include "itkPointBasedDRREnums.h"
+
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -54,14 +56,14 @@ struct Options
   std::optional<std::array<double, 2>> detectorOffset;
   bool                                 parallel{ false };
 
-  uint64_t    samples{ 10000000 };
-  std::string sampler{ "level-alias" };
-  std::string kernel{ "box" };
-  std::string splat{ "nearest" };
-  uint64_t    seed{ 0 };
-  unsigned    threads{ 0 }; // 0: all
-  bool        paperCount{ false };
-  unsigned    strata{ 0 }; // 0: the sampler's preference
+  uint64_t                                      samples{ 10000000 };
+  std::string                                   sampler{ "level-alias" };
+  itk::PointBasedDRREnums::ReconstructionKernel kernel{ itk::PointBasedDRREnums::ReconstructionKernel::Box };
+  itk::PointBasedDRREnums::Splat                splat{ itk::PointBasedDRREnums::Splat::Nearest };
+  uint64_t                                      seed{ 0 };
+  unsigned                                      threads{ 0 }; // 0: all
+  bool                                          paperCount{ false };
+  unsigned                                      strata{ 0 }; // 0: the sampler's preference
 
   std::string                          inputUnits{ "hu" };
   std::optional<double>                energyKeV;
@@ -70,8 +72,9 @@ struct Options
   std::string                          outputMode; // empty: from the output extension
   std::optional<std::array<double, 2>> window;     // level, width (line-integral units)
 
-  std::string exact; // empty, "siddon" or "trilinear"
-  unsigned    raysPerSide{ 1 };
+  /** --exact: the kernel whose model the exact projector renders (named by the kernel's ExactReference). */
+  std::optional<itk::PointBasedDRREnums::ReconstructionKernel> exact;
+  unsigned                                                     raysPerSide{ 1 };
 
   bool quiet{ false };
   bool verbose{ false };
@@ -91,6 +94,11 @@ ParseSampleCount(const std::string & text);
 double
 ParseNumber(const std::string & text, const std::string & flag);
 
+/** The name --exact gives the exact projector of kernel's model (`siddon`, `trilinear`), or empty if it has none. */
+std::string
+ExactReferenceName(itk::PointBasedDRREnums::ReconstructionKernel kernel);
+
+/** The text of pbdrr --help: the policy lists come from the registries (itkDRRPolicies.h, DRRSamplerFactory). */
 std::string
 HelpText();
 } // namespace pbdrr

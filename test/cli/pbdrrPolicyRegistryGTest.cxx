@@ -1,0 +1,230 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// The policy registries (itkDRRPolicies.h, DRRSamplerFactory) are the one list of kernels, splats, beams and
+// samplers: these tests fail when a registered policy is missing from anything that must list it (the command line's
+// help and parsing, the enumerators' names, the dispatch, the wrapping, docs/wrapping.md, the README, the fuzzers'
+// dictionaries), or when the registrations contradict each other.
+#include "pbdrrOptions.h"
+
+#include "itkDRRPolicies.h"
+#include "itkDRRSamplerFactory.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace
+{
+std::string
+ReadProjectFile(const std::string & relativePath)
+{
+  std::ifstream file(std::string(PBDRR_SOURCE_DIR) + "/" + relativePath);
+  EXPECT_TRUE(file.good()) << relativePath;
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+/** True if the help has a line: indentation, the name, spaces, the description. */
+bool
+HelpLists(const std::string & help, const std::string & name, const std::string & description)
+{
+  std::istringstream lines(help);
+  for (std::string line; std::getline(lines, line);)
+  {
+    const size_t start = line.find_first_not_of(' ');
+    if (start != std::string::npos && start > 0 && line.compare(start, name.size(), name) == 0)
+    {
+      const size_t text = line.find_first_not_of(' ', start + name.size());
+      if (text > start + name.size() && text != std::string::npos && line.substr(text) == description)
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+/** The message ParseCommandLine() throws for arguments, or "" if it accepts them. */
+std::string
+ParseError(const std::vector<std::string> & arguments)
+{
+  try
+  {
+    pbdrr::ParseCommandLine(arguments);
+  }
+  catch (const pbdrr::UsageError & error)
+  {
+    return error.what();
+  }
+  return "";
+}
+
+std::string
+Joined(const std::vector<std::string> & names)
+{
+  std::string list;
+  for (const auto & name : names)
+  {
+    list += (list.empty() ? "" : ", ") + name;
+  }
+  return list;
+}
+
+/** What every compile-time registry must satisfy: unique lower-case names, a description each, printed enumerator
+ * names from the registry, a dispatch that reaches the policy of each enumerator, and a command line that parses
+ * every name into its enumerator and lists exactly the registered names when it refuses one. */
+template <typename TPolicies>
+void
+CheckPolicyList(const std::string & option)
+{
+  std::set<std::string> names;
+  const std::string     help = pbdrr::HelpText();
+  for (const auto & entry : TPolicies::GetEntries())
+  {
+    EXPECT_TRUE(names.insert(entry.Name).second) << "duplicate name " << entry.Name;
+    EXPECT_EQ(entry.Name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-"), std::string::npos) << entry.Name;
+    EXPECT_FALSE(entry.Description.empty()) << entry.Name;
+    EXPECT_EQ(TPolicies::GetName(entry.Id), entry.Name);
+    EXPECT_EQ(TPolicies::Visit(entry.Id, [](auto policy) { return std::string(decltype(policy)::Name); }), entry.Name)
+      << "the dispatch must reach the policy registered for the enumerator";
+    std::ostringstream printed;
+    printed << entry.Id;
+    EXPECT_EQ(printed.str(), TPolicies::ToCamelCase(entry.Name)) << "operator<< must print the registered name";
+    typename TPolicies::EnumType parsed{};
+    ASSERT_TRUE(TPolicies::FindByName(entry.Name, parsed)) << entry.Name;
+    EXPECT_EQ(parsed, entry.Id);
+    if (!option.empty())
+    {
+      EXPECT_TRUE(HelpLists(help, entry.Name, entry.Description))
+        << "pbdrr --help must list " << entry.Name << " with its description";
+      EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", option, entry.Name }), "") << option << " " << entry.Name;
+    }
+  }
+  if (!option.empty())
+  {
+    EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", option, "no-such-policy" }),
+              option + " expects one of " + Joined(TPolicies::GetNames()) + ", got 'no-such-policy'");
+  }
+  const auto unregistered = static_cast<typename TPolicies::EnumType>(200);
+  EXPECT_THROW(TPolicies::GetName(unregistered), itk::ExceptionObject);
+  std::ostringstream printed;
+  printed << unregistered;
+  EXPECT_EQ(printed.str(), "INVALID") << "an unregistered enumerator must not print as a registered one";
+}
+} // namespace
+
+TEST(PolicyRegistry, KernelsAreRegisteredOnceAndListedEverywhere)
+{
+  CheckPolicyList<itk::DRRPolicies::Kernels>("--kernel");
+}
+
+TEST(PolicyRegistry, SplatsAreRegisteredOnceAndListedEverywhere)
+{
+  CheckPolicyList<itk::DRRPolicies::Splats>("--splat");
+}
+
+TEST(PolicyRegistry, BeamsAreRegisteredOnce)
+{
+  CheckPolicyList<itk::DRRPolicies::Beams>("");
+}
+
+TEST(PolicyRegistry, EveryExactReferenceIsOfferedByExact)
+{
+  std::vector<std::string> references;
+  for (const auto & entry : itk::DRRPolicies::Kernels::GetEntries())
+  {
+    const std::string reference = pbdrr::ExactReferenceName(entry.Id);
+    if (!reference.empty())
+    {
+      references.push_back(reference);
+      const auto options = pbdrr::ParseCommandLine({ "in.mha", "-o", "out.mha", "--exact", reference });
+      ASSERT_TRUE(options.exact.has_value());
+      EXPECT_EQ(*options.exact, entry.Id) << reference;
+    }
+  }
+  EXPECT_FALSE(references.empty());
+  EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--exact", "foo" }),
+            "--exact expects one of " + Joined(references) + ", got 'foo'");
+}
+
+TEST(PolicyRegistry, SamplersAreRegisteredOnceAndListedEverywhere)
+{
+  const std::string        help = pbdrr::HelpText();
+  const std::string        readme = ReadProjectFile("README.md");
+  const std::string        wrappingDoc = ReadProjectFile("docs/wrapping.md");
+  const std::string        optionsDictionary = ReadProjectFile("test/fuzz/Options.dict");
+  const std::string        filterSeeds = ReadProjectFile("test/fuzz/corpus/make_filter_seeds.py");
+  std::set<std::string>    names;
+  std::vector<std::string> quoted;
+  for (const auto & entry : itk::DRRSamplerFactory::GetEntries())
+  {
+    EXPECT_TRUE(names.insert(entry.Name).second) << "duplicate sampler " << entry.Name;
+    const auto sampler = itk::DRRSamplerFactory::Create(entry.Name);
+    ASSERT_NE(sampler, nullptr) << entry.Name;
+    const std::string className = sampler->GetNameOfClass();
+    EXPECT_TRUE(HelpLists(help, entry.Name, entry.Description)) << "pbdrr --help must list " << entry.Name;
+    EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--sampler", entry.Name }), "") << entry.Name;
+    EXPECT_NE(readme.find("| `" + entry.Name + "`"), std::string::npos)
+      << "the README's sampler table needs a row for " << entry.Name;
+    EXPECT_TRUE(std::ifstream(std::string(PBDRR_SOURCE_DIR) + "/wrapping/itk" + className + ".wrap").good())
+      << entry.Name << ": wrapping/itk" << className << ".wrap is missing";
+    EXPECT_NE(wrappingDoc.find("`itk::" + className + "`"), std::string::npos)
+      << "docs/wrapping.md must list itk::" << className;
+    EXPECT_NE(optionsDictionary.find("\"" + entry.Name + "\\x00\""), std::string::npos)
+      << "test/fuzz/Options.dict must hold " << entry.Name;
+    quoted.push_back("\"" + entry.Name + "\"");
+    if (entry.CreatePaperVariant)
+    {
+      EXPECT_STREQ(entry.CreatePaperVariant()->GetNameOfClass(), className.c_str()) << entry.Name;
+    }
+  }
+  // The filter fuzzer decodes a sampler as its index in the registry: the seed generator must use the same order.
+  EXPECT_NE(filterSeeds.find("SAMPLERS = [" + Joined(quoted) + "]"), std::string::npos)
+    << "test/fuzz/corpus/make_filter_seeds.py: SAMPLERS must list the registry in order: " << Joined(quoted);
+  EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--sampler", "foo" }),
+            "--sampler expects one of " + itk::DRRSamplerFactory::GetNames() + ", got 'foo'");
+}
+
+TEST(PolicyRegistry, KernelsAndSplatsAreInTheFuzzDictionaryAndTheReadme)
+{
+  const std::string readme = ReadProjectFile("README.md");
+  const std::string optionsDictionary = ReadProjectFile("test/fuzz/Options.dict");
+  for (const auto & name : itk::DRRPolicies::Kernels::GetNames())
+  {
+    EXPECT_NE(optionsDictionary.find("\"" + name + "\\x00\""), std::string::npos) << name;
+    EXPECT_NE(readme.find(name), std::string::npos) << "the README does not name the kernel " << name;
+  }
+  for (const auto & name : itk::DRRPolicies::Splats::GetNames())
+  {
+    EXPECT_NE(optionsDictionary.find("\"" + name + "\\x00\""), std::string::npos) << name;
+    EXPECT_NE(readme.find(name), std::string::npos) << "the README does not name the splat " << name;
+  }
+}
+
+TEST(PolicyRegistry, TheFirstRegisteredIsTheDefaultEverywhere)
+{
+  const pbdrr::Options defaults;
+  EXPECT_EQ(defaults.kernel, itk::DRRPolicies::Kernels::GetEntries().front().Id);
+  EXPECT_EQ(defaults.splat, itk::DRRPolicies::Splats::GetEntries().front().Id);
+  EXPECT_EQ(defaults.sampler, itk::DRRSamplerFactory::GetEntries().front().Name);
+  EXPECT_FALSE(defaults.parallel);
+  EXPECT_EQ(itk::DRRPolicies::Beams::GetEntries().front().Id, itk::PointBasedDRREnums::Projection::Perspective);
+}
