@@ -122,7 +122,7 @@ foreach(file IN LISTS files)
   if(numberOfPieces GREATER 1)
     math(EXPR binaryFiles "${binaryFiles} + 1")
   endif()
-  string(REPLACE ";" "\n" content "${pieces}")
+  list(JOIN pieces "\n" content) # the text's own semicolons stay escaped (\;), so lines count right
   string(REGEX MATCHALL "${outsideCitation}" outside "${content}")
   foreach(match IN LISTS outside)
     report("${file}" content "${match}" "cites the outside design file; cite docs/design.md section N")
