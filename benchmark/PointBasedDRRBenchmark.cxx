@@ -15,7 +15,7 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-// The speed/accuracy trade of one DRR view of one volume (DESIGN section 7): every registered point sampler with
+// The speed/accuracy trade of one DRR view of one volume (docs/design.md section 7): every registered sampler with
 // every kernel and splat at a ladder of sample counts, the exact projectors, ITK's ray caster and plastimatch, each
 // timed (wall, CPU, peak memory) and compared with the exact pixel-averaged reference. Writes OUTDIR/NAME.csv (one
 // row per method and setting), OUTDIR/NAME.md (the same as Markdown tables) and OUTDIR/NAME_agreement.csv.

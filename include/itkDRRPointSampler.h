@@ -30,7 +30,7 @@ namespace itk
  *
  * A sampler draws voxel v with some probability P(v) and returns, with each voxel, the weight q(v) / P(v), where
  * q(v) = mu_v * voxelVolume / M is the exact importance density: every sampler therefore estimates the same line
- * integrals (DESIGN section 2). Where inside the voxel the point goes is the reconstruction kernel's business,
+ * integrals (docs/design.md section 2). Where inside the voxel the point goes is the reconstruction kernel's business,
  * not the sampler's.
  *
  * Batches are addressed by sample index (SampleRange): a sampler may use the index (stratified samplers do) and must

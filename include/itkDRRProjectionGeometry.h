@@ -55,7 +55,7 @@ namespace itk
  * \image html geometry.svg "The room seen from +z (left) and the detector seen from the source (right)"
  *
  * The explicit form (source, detector centre, column and row unit vectors) is accepted too and converted to
- * the same internal parameters; ReadGeometryFile() reads the `key value...` file format of the design
+ * the same internal parameters; ReadGeometryFile() reads the `key value...` file format of docs/design.md section 5
  * (`projection`, `sad`, `sid`, `gantry`, `nrm`, `vup`, `isocenter`, `cols`, `rows`, `spacing`, `offset`).
  *
  * \sa PointBasedDRRImageFilter, ExactDRRImageFilter, DRRPointProjection

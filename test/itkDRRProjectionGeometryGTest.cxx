@@ -15,8 +15,8 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-// Tests of DRRProjectionGeometry (DESIGN.md section 5). Every expected value is worked out by hand from the written
-// convention, in the comments next to it; the code under test is never used to produce an expectation.
+// Tests of DRRProjectionGeometry (docs/design.md section 5). Every expected value is worked out by hand from the
+// written convention, in the comments next to it; the code under test is never used to produce an expectation.
 //
 //   n = (cos g, -sin g, 0) (or nrm / |nrm|), u = unit(vup x n), v = u x n,
 //   S = iso + SAD n, foot = S - SID n, C = foot + off_u u + off_v v,

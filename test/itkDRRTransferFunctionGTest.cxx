@@ -15,7 +15,7 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-// Tests of DRRTransferFunction (DESIGN.md section 6). Expected values are written out by hand:
+// Tests of DRRTransferFunction (docs/design.md section 6). Expected values are written out by hand:
 //   natural: mu = mu_water(E) * max(0, 1 + HU / 1000), HU clamped at -1000;
 //   mu_water (1/mm) from NIST XCOM, liquid water: 50 keV 0.02269, 60 keV 0.02059, 80 keV 0.01837, 100 keV 0.01707,
 //   150 keV 0.01505 (and the table ends, 10 keV 0.5329, 1000 keV 0.007072), log-log interpolated in between.

@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 // Robustness of the DRR filters (bad input is rejected with an exception that names the problem) and the numerical
-// extremes of DESIGN section 8 (all air, one voxel, one sample, HU extremes, anisotropic and left-handed voxels, the
+// extremes of docs/design.md section 8 (all air, one voxel, one sample, HU limits, anisotropic, left-handed voxels, the
 // source next to or inside the volume, the detector cutting the volume, rays far off-axis, beams along a voxel axis,
 // transforms at the edge, float HU beyond any scanner's range, 2^33 samples), plus progress, abort, caching and
 // reproducibility under a transform.
@@ -728,7 +728,7 @@ TEST(PointBasedDRRRobustness, OneStratumIsRefusedAndTooFewPointsPerStratumWarn)
 }
 
 // ---------------------------------------------------------------------------------------------------------------------
-// Numerical extremes (DESIGN section 8).
+// Numerical extremes (docs/design.md section 8).
 
 TEST(PointBasedDRRExtremes, AllAirIsExactlyZero)
 {
