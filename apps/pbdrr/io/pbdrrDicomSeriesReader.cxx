@@ -1,0 +1,103 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "pbdrrDicomSeriesReader.h"
+#include "pbdrrDicomContent.h"
+#include "pbdrrDicomSliceStack.h"
+#include "pbdrrDicomValues.h"
+#include "pbdrrGdcmWarningCapture.h"
+#include "pbdrrLoaderText.h"
+
+#include "itkGDCMImageIO.h"
+#include "itkImageSeriesReader.h"
+#include "gdcmScanner.h"
+
+#include <stdexcept>
+
+namespace pbdrr
+{
+namespace
+{
+/** The slices of a series, one per file, from their DICOM headers. */
+std::vector<Slice>
+ScanSeries(const std::vector<std::string> & files)
+{
+  const gdcm::Tag positionTag(0x0020, 0x0032);
+  const gdcm::Tag orientationTag(0x0020, 0x0037);
+  const gdcm::Tag rowsTag(0x0028, 0x0010);
+  const gdcm::Tag columnsTag(0x0028, 0x0011);
+  gdcm::Scanner   scanner;
+  scanner.AddTag(positionTag);
+  scanner.AddTag(orientationTag);
+  scanner.AddTag(rowsTag);
+  scanner.AddTag(columnsTag);
+  if (!scanner.Scan(files))
+  {
+    Fail("cannot scan the DICOM files of the series");
+  }
+  std::vector<Slice> slices;
+  for (const std::string & file : files)
+  {
+    Slice               slice;
+    std::vector<double> position;
+    if (!ParseNumbers(scanner.GetValue(file.c_str(), orientationTag), 6, slice.Orientation) ||
+        !ParseNumbers(scanner.GetValue(file.c_str(), positionTag), 3, position))
+    {
+      Fail("DICOM file " + file + " has no image position/orientation (not a CT slice?)");
+    }
+    const char * rows = scanner.GetValue(file.c_str(), rowsTag);
+    const char * columns = scanner.GetValue(file.c_str(), columnsTag);
+    slice.Name = file;
+    slice.Position = { position[0], position[1], position[2] };
+    slice.Size = std::string(rows ? rows : "") + " x " + (columns ? columns : "");
+    slices.push_back(slice);
+  }
+  return slices;
+}
+} // namespace
+
+VolumeType::Pointer
+ReadDicomSeries(const std::vector<std::string> & files,
+                const std::vector<std::string> & notDicom,
+                const std::string &              directory)
+{
+  GdcmWarningCapture warnings;
+  double             spacing = 1.0;
+  try
+  {
+    spacing = CheckSliceStack(ScanSeries(files), "the series").Spacing;
+  }
+  catch (const std::runtime_error & e)
+  {
+    // A slice cut to a few bytes no longer looks like DICOM: name such files beside the gap they leave.
+    Fail(e.what() + (notDicom.empty() ? std::string()
+                                      : " (" + directory + " also holds " + std::to_string(notDicom.size()) +
+                                          " file(s) that are not DICOM: " + JoinNames(notDicom) + ")"));
+  }
+  auto reader = itk::ImageSeriesReader<VolumeType>::New();
+  reader->SetImageIO(itk::GDCMImageIO::New());
+  reader->SetFileNames(files);
+  reader->Update();
+  VolumeType::Pointer image = reader->GetOutput();
+  image->DisconnectPipeline();
+  auto imageSpacing = image->GetSpacing();
+  imageSpacing[2] = spacing;
+  image->SetSpacing(imageSpacing);
+  RefuseDamagedPixelData(warnings, files);
+  return image;
+}
+} // namespace pbdrr

@@ -1,0 +1,36 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef pbdrrVolumeFileReader_h
+#define pbdrrVolumeFileReader_h
+
+#include "pbdrrVolumeLoader.h"
+
+#include "itkImageIOBase.h"
+
+#include <string>
+
+namespace pbdrr
+{
+/** Reads the image file `path` through `io` (its image information read) as a float volume. Refuses, with
+ * std::runtime_error, an image that is not 3D or not scalar, and one the reader reports read short or damaged (some
+ * readers, MetaImage's, only say so on std::cerr and carry on); the reader's other messages still reach std::cerr. */
+VolumeType::Pointer
+ReadVolumeFile(const std::string & path, const itk::ImageIOBase::Pointer & io);
+} // namespace pbdrr
+
+#endif

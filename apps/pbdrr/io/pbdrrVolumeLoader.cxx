@@ -1,0 +1,107 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "pbdrrVolumeLoader.h"
+#include "pbdrrDicomFileCheck.h"
+#include "pbdrrDicomMultiFrame.h"
+#include "pbdrrDicomSeriesDiscovery.h"
+#include "pbdrrDicomSeriesReader.h"
+#include "pbdrrGdcmWarningCapture.h"
+#include "pbdrrLoaderText.h"
+#include "pbdrrVolumeFileReader.h"
+
+#include "itkGDCMImageIO.h"
+#include "itkImageIOFactory.h"
+
+#include <sys/stat.h>
+
+namespace pbdrr
+{
+namespace
+{
+/** A directory: its DICOM series (found, then one selected), read as a volume. */
+LoadedVolume
+LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
+{
+  GdcmWarningCapture    quiet; // GDCM's own errors while scanning: pbdrr words the problems itself
+  LoadedVolume          loaded;
+  const DicomSeriesList list = FindDicomSeries(directory);
+  loaded.Notes = list.Notes;
+  const DicomSeries & chosen = SelectDicomSeries(list, seriesUID, directory, loaded.Notes);
+  if (chosen.Files.size() == 1)
+  {
+    // One file: a multi-frame volume, or a single slice (refused as 2D).
+    loaded.Image = ReadDicomFile(chosen.Files[0], loaded.Notes);
+  }
+  else
+  {
+    loaded.Image = ReadDicomSeries(chosen.Files, list.NotDicom, directory);
+  }
+  const std::string name = chosen.UID.empty() ? std::string("without a Series Instance UID") : chosen.UID;
+  loaded.Description = "DICOM series " + name + " (" + std::to_string(chosen.Files.size()) + " files) in " + directory;
+  return loaded;
+}
+
+/** A file: a DICOM file (refused if cut short, before GDCM reads it), or any image file ITK reads. */
+LoadedVolume
+LoadVolumeFile(const std::string & input)
+{
+  LoadedVolume      loaded;
+  const std::string truncation = FindDicomTruncation(input);
+  if (!truncation.empty())
+  {
+    Fail("cannot read " + input + ": the DICOM file is truncated or damaged (" + truncation + ")");
+  }
+  auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::IOFileModeEnum::ReadMode);
+  if (!io)
+  {
+    Fail("cannot read " + input + ": not an image format ITK knows (DICOM directory, .mha, .nrrd, .nii, ...)");
+  }
+  if (dynamic_cast<itk::GDCMImageIO *>(io.GetPointer()))
+  {
+    // A DICOM file alone: a multi-frame volume, placed by its frame positions, or a 2D slice (refused).
+    loaded.Image = ReadDicomFile(input, loaded.Notes);
+  }
+  else
+  {
+    io->SetFileName(input);
+    io->ReadImageInformation();
+    loaded.Image = ReadVolumeFile(input, io);
+  }
+  loaded.Description = "file " + input;
+  return loaded;
+}
+} // namespace
+
+LoadedVolume
+LoadVolume(const std::string & input, const std::string & seriesUID)
+{
+  struct stat status;
+  if (stat(input.c_str(), &status) != 0)
+  {
+    Fail("input " + input + " does not exist");
+  }
+  try
+  {
+    return S_ISDIR(status.st_mode) ? LoadDicomDirectory(input, seriesUID) : LoadVolumeFile(input);
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    Fail("cannot read " + input + ": " + e.GetDescription());
+  }
+}
+} // namespace pbdrr
