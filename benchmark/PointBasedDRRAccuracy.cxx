@@ -62,6 +62,80 @@ Compare(const ProjectionType * image, const pbdrr::bench::Image & reference)
 {
   return pbdrr::bench::Compare(pbdrr::bench::ToVector(image), reference);
 }
+
+using ExactType = itk::ExactDRRImageFilter<VolumeType, ProjectionType>;
+using PointType = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>;
+
+/** One sampler: its preprocessing, then 1e6, 1e7 and 1e8 samples against the reference `truth`. */
+void
+SamplerRows(const VolumeType *           volume,
+            itk::DRRProjectionGeometry * geometry,
+            KernelEnum                   kernel,
+            const std::string &          samplerName,
+            unsigned int                 runs,
+            const pbdrr::bench::Image &  truth)
+{
+  const char * kernelName = kernel == KernelEnum::Box ? "box (Siddon)" : "tent (trilinear)";
+  auto         drr = PointType::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(geometry);
+  drr->SetReconstructionKernel(kernel);
+  drr->SetSampler(itk::DRRSamplerFactory::Create(samplerName));
+  drr->SetNumberOfSamples(1);
+  const double start = Now();
+  drr->Update();
+  const double preprocessSeconds = Now() - start;
+  std::cout << "| " << samplerName
+            << ": preprocessing (HU->mu, sampling tables: " << drr->GetSampler()->GetTableSizeInBytes() / 1048576.0
+            << " MiB) | " << kernelName << " | | " << preprocessSeconds << " | | | | |\n";
+  for (double samples : { 1e6, 1e7, 1e8 })
+  {
+    drr->SetNumberOfSamples(static_cast<uint64_t>(samples));
+    drr->SetSeed(1);
+    const double seconds = MedianSeconds(drr.GetPointer(), runs);
+    const Errors e = Compare(drr->GetOutput(), truth);
+    std::cout << "| " << samplerName << " | " << kernelName << " | " << samples << " | " << seconds << " | " << e.Nrmse
+              << " | " << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
+  }
+}
+
+/** The rows of one kernel: the reference, the exact projector at 1, 4 and 16 rays per pixel, every sampler. */
+void
+KernelRows(const VolumeType *               volume,
+           itk::DRRProjectionGeometry *     geometry,
+           KernelEnum                       kernel,
+           unsigned int                     referenceRays,
+           unsigned int                     runs,
+           const std::vector<std::string> & samplers)
+{
+  const char * kernelName = kernel == KernelEnum::Box ? "box (Siddon)" : "tent (trilinear)";
+  auto         reference = ExactType::New();
+  reference->SetInput(volume);
+  reference->SetGeometry(geometry);
+  reference->SetReconstructionKernel(kernel);
+  reference->SetRaysPerPixelSide(referenceRays);
+  const double start = Now();
+  reference->Update();
+  const double              referenceSeconds = Now() - start;
+  const pbdrr::bench::Image truth = pbdrr::bench::ToVector(reference->GetOutput());
+  std::cout << "| exact (reference) | " << kernelName << " | " << referenceRays * referenceRays << " | "
+            << referenceSeconds << " | 0 | 0 | 0 | 1 |\n";
+  for (unsigned int rays : { 1u, 2u, 4u })
+  {
+    auto exact = ExactType::New();
+    exact->SetInput(volume);
+    exact->SetGeometry(geometry);
+    exact->SetReconstructionKernel(kernel);
+    exact->SetRaysPerPixelSide(rays);
+    exact->Update(); // builds the attenuation volume once
+    const double seconds = MedianSeconds(exact.GetPointer(), runs);
+    const Errors e = Compare(exact->GetOutput(), truth);
+    std::cout << "| exact | " << kernelName << " | " << rays * rays << " | " << seconds << " | " << e.Nrmse << " | "
+              << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
+  }
+  for (const std::string & samplerName : samplers)
+    SamplerRows(volume, geometry, kernel, samplerName, runs, truth);
+}
 } // namespace
 
 int
@@ -93,7 +167,7 @@ main(int argc, char * argv[])
                                                  : std::vector<KernelEnum>{ KernelEnum::Box, KernelEnum::Tent };
   try
   {
-    double                          start = Now();
+    const double                    start = Now();
     const auto                      volume = pbdrr::LoadVolume(argv[1], "").Image;
     const double                    loadSeconds = Now() - start;
     const auto                      region = volume->GetLargestPossibleRegion();
@@ -116,63 +190,11 @@ main(int argc, char * argv[])
               << " deg, SAD 1000 mm, SID 1500 mm; threads " << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads()
               << "; median of " << runs << " runs\n\n";
 
-    using ExactType = itk::ExactDRRImageFilter<VolumeType, ProjectionType>;
-    using PointType = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>;
     std::cout << "| method | kernel | samples or rays/pixel | wall time (s) | NRMSE (range) | RMSE / mean | max error "
                  "(range) | sum ratio |\n|---|---|---|---|---|---|---|---|\n";
     std::cout << std::setprecision(4);
     for (KernelEnum kernel : kernels)
-    {
-      const char * kernelName = kernel == KernelEnum::Box ? "box (Siddon)" : "tent (trilinear)";
-      auto         reference = ExactType::New();
-      reference->SetInput(volume);
-      reference->SetGeometry(geometry);
-      reference->SetReconstructionKernel(kernel);
-      reference->SetRaysPerPixelSide(referenceRays);
-      start = Now();
-      reference->Update();
-      const double              referenceSeconds = Now() - start;
-      const pbdrr::bench::Image truth = pbdrr::bench::ToVector(reference->GetOutput());
-      std::cout << "| exact (reference) | " << kernelName << " | " << referenceRays * referenceRays << " | "
-                << referenceSeconds << " | 0 | 0 | 0 | 1 |\n";
-      for (unsigned int rays : { 1u, 2u, 4u })
-      {
-        auto exact = ExactType::New();
-        exact->SetInput(volume);
-        exact->SetGeometry(geometry);
-        exact->SetReconstructionKernel(kernel);
-        exact->SetRaysPerPixelSide(rays);
-        exact->Update(); // builds the attenuation volume once
-        const double seconds = MedianSeconds(exact.GetPointer(), runs);
-        const Errors e = Compare(exact->GetOutput(), truth);
-        std::cout << "| exact | " << kernelName << " | " << rays * rays << " | " << seconds << " | " << e.Nrmse << " | "
-                  << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
-      }
-      for (const std::string & samplerName : samplers)
-      {
-        auto drr = PointType::New();
-        drr->SetInput(volume);
-        drr->SetGeometry(geometry);
-        drr->SetReconstructionKernel(kernel);
-        drr->SetSampler(itk::DRRSamplerFactory::Create(samplerName));
-        drr->SetNumberOfSamples(1);
-        start = Now();
-        drr->Update();
-        const double preprocessSeconds = Now() - start;
-        std::cout << "| " << samplerName << ": preprocessing (HU->mu, sampling tables: "
-                  << drr->GetSampler()->GetTableSizeInBytes() / 1048576.0 << " MiB) | " << kernelName << " | | "
-                  << preprocessSeconds << " | | | | |\n";
-        for (double samples : { 1e6, 1e7, 1e8 })
-        {
-          drr->SetNumberOfSamples(static_cast<uint64_t>(samples));
-          drr->SetSeed(1);
-          const double seconds = MedianSeconds(drr.GetPointer(), runs);
-          const Errors e = Compare(drr->GetOutput(), truth);
-          std::cout << "| " << samplerName << " | " << kernelName << " | " << samples << " | " << seconds << " | "
-                    << e.Nrmse << " | " << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
-        }
-      }
-    }
+      KernelRows(volume, geometry, kernel, referenceRays, runs, samplers);
   }
   catch (const std::exception & e)
   {

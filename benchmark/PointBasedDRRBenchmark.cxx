@@ -47,6 +47,23 @@ namespace pbdrr
 {
 namespace bench
 {
+namespace
+{
+/** An exact projector of the volume with `kernel`, its attenuation volume (HU -> mu) built: `huToMu` seconds. */
+ExactType::Pointer
+MakeExact(const VolumeType * volume, itk::DRRProjectionGeometry * geometry, KernelEnum kernel, double & huToMu)
+{
+  auto filter = ExactType::New();
+  filter->SetInput(volume);
+  filter->SetGeometry(geometry);
+  filter->SetReconstructionKernel(kernel);
+  const double start = Now();
+  filter->GetAttenuationVolume();
+  huToMu = Now() - start;
+  return filter;
+}
+} // namespace
+
 Benchmark::Benchmark(Options options) : m_Options(std::move(options))
 {}
 
@@ -95,8 +112,19 @@ Benchmark::GeometryText(const Geometry & g) const
   return text.str();
 }
 
-/** Median timing of re-running a filter (Modified, Update) --runs times, once if the first run is over --repeat-limit.
- */
+/** The view of the options (--cols, --rows, --spacing) as m_Geometry, and a row of this configuration on it. */
+Row
+Benchmark::StartView()
+{
+  m_Geometry = { m_Options.Columns, m_Options.Rows, m_Options.Spacing };
+  Row base;
+  base.Config = m_Options.Name;
+  base.Columns = m_Geometry.Columns;
+  base.DetectorRows = m_Geometry.Rows;
+  return base;
+}
+
+/** Median timing of --runs re-renders of a filter (Modified, Update); one if the first is over --repeat-limit. */
 Timing
 Benchmark::TimeRenders(itk::ProcessObject * filter) const
 {
@@ -120,13 +148,8 @@ Benchmark::Reference(const VolumeType *           volume,
                      MuImageType::Pointer *       mu,
                      Row                          base)
 {
-  auto filter = ExactType::New();
-  filter->SetInput(volume);
-  filter->SetGeometry(geometry);
-  filter->SetReconstructionKernel(kernel);
-  const double start = Now();
-  filter->GetAttenuationVolume();
-  const double huToMu = Now() - start;
+  double     huToMu = NaN;
+  const auto filter = MakeExact(volume, geometry, kernel, huToMu);
   if (mu)
     *mu = MuImage(volume, filter->GetAttenuationVolume());
   if (volume == m_Volume.GetPointer())
@@ -158,13 +181,7 @@ Benchmark::ExactRows(const VolumeType *           volume,
                      Row                          base,
                      const ImageView &            view)
 {
-  auto filter = ExactType::New();
-  filter->SetInput(volume);
-  filter->SetGeometry(geometry);
-  filter->SetReconstructionKernel(kernel);
-  const double start = Now();
-  filter->GetAttenuationVolume();
-  base.HuToMu = Now() - start;
+  const auto filter = MakeExact(volume, geometry, kernel, base.HuToMu);
   filter->SetRaysPerPixelSide(1);
   const double  first = WarmUp(filter.GetPointer());
   const Image & own = kernel == KernelEnum::Box ? m_BoxReference : m_TentReference;

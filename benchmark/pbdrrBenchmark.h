@@ -70,6 +70,8 @@ private:
   MakeGeometry(const VolumeType * volume, unsigned cols, unsigned rows, double spacing) const;
   std::string
   GeometryText(const Geometry & g) const;
+  Row
+  StartView();
   Timing
   TimeRenders(itk::ProcessObject * filter) const;
 

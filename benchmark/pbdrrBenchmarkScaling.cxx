@@ -32,13 +32,8 @@ namespace bench
 void
 Benchmark::Scaling()
 {
-  const Geometry g{ m_Options.Columns, m_Options.Rows, m_Options.Spacing };
-  m_Geometry = g;
+  Row            base = StartView();
   const uint64_t samples = static_cast<uint64_t>(std::llround(m_Options.ScalingSamples));
-  Row            base;
-  base.Config = m_Options.Name;
-  base.Columns = g.Columns;
-  base.DetectorRows = g.Rows;
 
   // 1. time against the number of samples (box kernel, nearest splat; no error computed)
   std::cerr << "scaling: samples" << std::endl;

@@ -33,15 +33,11 @@ namespace bench
 void
 Benchmark::Trade()
 {
-  const Geometry g{ m_Options.Columns, m_Options.Rows, m_Options.Spacing };
-  m_Geometry = g;
-  auto geometry = MakeGeometry(m_Volume, g.Columns, g.Rows, g.Spacing);
-  Row  base;
-  base.Config = m_Options.Name;
+  Row              base = StartView();
+  const Geometry & g = m_Geometry;
+  auto             geometry = MakeGeometry(m_Volume, g.Columns, g.Rows, g.Spacing);
   base.Sweep = "trade";
   base.Voxels = m_Volume->GetLargestPossibleRegion().GetNumberOfPixels();
-  base.Columns = g.Columns;
-  base.DetectorRows = g.Rows;
 
   std::cerr << "references (" << m_Options.ReferenceRays << " x " << m_Options.ReferenceRays << " rays per pixel)"
             << std::endl;
