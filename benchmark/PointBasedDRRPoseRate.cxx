@@ -268,23 +268,7 @@ private:
     Row  row;
     row.Method = "ITK ray caster";
     row.Size = size;
-    std::vector<double> walls, cpus, errors;
-    for (unsigned p = 0; p < m_Options.RayCasterPoses; ++p)
-    {
-      transform->SetParameters(m_Poses[p]);
-      const double wall = Now(), cpu = CpuSeconds();
-      resample->Update();
-      walls.push_back(Now() - wall);
-      cpus.push_back(CpuSeconds() - cpu);
-      if (p < m_References.size())
-      {
-        errors.push_back(Nrmse(ToVector(resample->GetOutput()), m_References[p]));
-      }
-    }
-    row.PerDrr = Median(walls);
-    row.CpuPerDrr = Median(cpus);
-    row.Nrmse = errors.empty() ? NAN : Median(errors);
-    row.Poses = m_Options.RayCasterPoses;
+    this->TimePoses(transform, resample.GetPointer(), m_Options.RayCasterPoses, row);
     this->Add(row);
   }
 
@@ -307,28 +291,37 @@ private:
     const double start = Now();
     drr->Update(); // draws the points (and renders pose 0)
     row.DrawSeconds = Now() - start;
-    std::vector<double> walls, cpus, errors;
-    for (unsigned p = 0; p < m_Options.Poses; ++p)
-    {
-      transform->SetParameters(m_Poses[p]);
-      const double wall = Now(), cpu = CpuSeconds();
-      drr->Update();
-      walls.push_back(Now() - wall);
-      cpus.push_back(CpuSeconds() - cpu);
-      if (p < m_References.size())
-        errors.push_back(Nrmse(ToVector(drr->GetOutput()), m_References[p]));
-    }
+    this->TimePoses(transform, drr.GetPointer(), m_Options.Poses, row);
     if (drr->GetNumberOfPointCloudDraws() != 1)
       throw std::runtime_error("the points were drawn more than once");
     row.Method = "PBDRR " + m_Options.Sampler + " re-projected";
     row.Size = size;
     row.Samples = samples;
+    row.BytesPerPoint = drr->GetPointCloud()->GetBytesPerPoint();
+    this->Add(row);
+  }
+
+  /** Renders the first `poses` poses (the transform set to each, then Update): the median wall and CPU time per DRR,
+   * and the median NRMSE at the poses that have a reference, into `row`. */
+  template <typename TFilter>
+  void
+  TimePoses(TransformType * transform, TFilter * filter, unsigned poses, Row & row) const
+  {
+    std::vector<double> walls, cpus, errors;
+    for (unsigned p = 0; p < poses; ++p)
+    {
+      transform->SetParameters(m_Poses[p]);
+      const double wall = Now(), cpu = CpuSeconds();
+      filter->Update();
+      walls.push_back(Now() - wall);
+      cpus.push_back(CpuSeconds() - cpu);
+      if (p < m_References.size())
+        errors.push_back(Nrmse(ToVector(filter->GetOutput()), m_References[p]));
+    }
     row.PerDrr = Median(walls);
     row.CpuPerDrr = Median(cpus);
     row.Nrmse = errors.empty() ? NAN : Median(errors);
-    row.BytesPerPoint = drr->GetPointCloud()->GetBytesPerPoint();
-    row.Poses = m_Options.Poses;
-    this->Add(row);
+    row.Poses = poses;
   }
 
   void
