@@ -26,53 +26,19 @@
 #include "itkExactDRRImageFilter.h"
 #include "pbdrrVolumeLoader.h"
 #include "itkDRRSamplerFactory.h"
-
-#include <sstream>
+#include "pbdrrBenchmarkSupport.h"
 
 #include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <iomanip>
 #include <iostream>
 
 namespace
 {
+using pbdrr::bench::Errors;
+using pbdrr::bench::Now;
+using pbdrr::bench::ProjectionType;
 using VolumeType = pbdrr::VolumeType;
-using ProjectionType = itk::Image<float, 2>;
 using KernelEnum = itk::PointBasedDRREnums::ReconstructionKernel;
-
-double
-Seconds(const std::chrono::steady_clock::time_point & start)
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-struct Errors
-{
-  double Nrmse;        // RMSE / (max - min of the reference)
-  double RelativeRmse; // RMSE / mean of the reference
-  double MaxError;     // max |error| / (max - min of the reference)
-  double SumRatio;     // sum(image) / sum(reference): the bias
-};
-
-Errors
-Compare(const ProjectionType * image, const std::vector<double> & reference)
-{
-  const float * values = image->GetBufferPointer();
-  double        squared = 0.0, worst = 0.0, sum = 0.0, referenceSum = 0.0;
-  const auto    range = std::minmax_element(reference.begin(), reference.end());
-  for (size_t p = 0; p < reference.size(); ++p)
-  {
-    const double e = values[p] - reference[p];
-    squared += e * e;
-    worst = std::max(worst, std::abs(e));
-    sum += values[p];
-    referenceSum += reference[p];
-  }
-  const double rmse = std::sqrt(squared / reference.size());
-  const double span = *range.second - *range.first;
-  return { rmse / span, rmse / (referenceSum / reference.size()), worst / span, sum / referenceSum };
-}
 
 template <typename TFilter>
 double
@@ -82,12 +48,93 @@ MedianSeconds(TFilter * filter, unsigned int runs)
   for (unsigned int r = 0; r < runs; ++r)
   {
     filter->Modified();
-    const auto start = std::chrono::steady_clock::now();
+    const double start = Now();
     filter->Update();
-    times.push_back(Seconds(start));
+    times.push_back(Now() - start);
   }
   std::sort(times.begin(), times.end());
   return times[times.size() / 2];
+}
+
+/** The errors of a rendered image against the reference. */
+Errors
+Compare(const ProjectionType * image, const pbdrr::bench::Image & reference)
+{
+  return pbdrr::bench::Compare(pbdrr::bench::ToVector(image), reference);
+}
+
+using ExactType = itk::ExactDRRImageFilter<VolumeType, ProjectionType>;
+using PointType = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>;
+
+/** One sampler: its preprocessing, then 1e6, 1e7 and 1e8 samples against the reference `truth`. */
+void
+SamplerRows(const VolumeType *           volume,
+            itk::DRRProjectionGeometry * geometry,
+            KernelEnum                   kernel,
+            const std::string &          samplerName,
+            unsigned int                 runs,
+            const pbdrr::bench::Image &  truth)
+{
+  const char * kernelName = kernel == KernelEnum::Box ? "box (Siddon)" : "tent (trilinear)";
+  auto         drr = PointType::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(geometry);
+  drr->SetReconstructionKernel(kernel);
+  drr->SetSampler(itk::DRRSamplerFactory::Create(samplerName));
+  drr->SetNumberOfSamples(1);
+  const double start = Now();
+  drr->Update();
+  const double preprocessSeconds = Now() - start;
+  std::cout << "| " << samplerName
+            << ": preprocessing (HU->mu, sampling tables: " << drr->GetSampler()->GetTableSizeInBytes() / 1048576.0
+            << " MiB) | " << kernelName << " | | " << preprocessSeconds << " | | | | |\n";
+  for (double samples : { 1e6, 1e7, 1e8 })
+  {
+    drr->SetNumberOfSamples(static_cast<uint64_t>(samples));
+    drr->SetSeed(1);
+    const double seconds = MedianSeconds(drr.GetPointer(), runs);
+    const Errors e = Compare(drr->GetOutput(), truth);
+    std::cout << "| " << samplerName << " | " << kernelName << " | " << samples << " | " << seconds << " | " << e.Nrmse
+              << " | " << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
+  }
+}
+
+/** The rows of one kernel: the reference, the exact projector at 1, 4 and 16 rays per pixel, every sampler. */
+void
+KernelRows(const VolumeType *               volume,
+           itk::DRRProjectionGeometry *     geometry,
+           KernelEnum                       kernel,
+           unsigned int                     referenceRays,
+           unsigned int                     runs,
+           const std::vector<std::string> & samplers)
+{
+  const char * kernelName = kernel == KernelEnum::Box ? "box (Siddon)" : "tent (trilinear)";
+  auto         reference = ExactType::New();
+  reference->SetInput(volume);
+  reference->SetGeometry(geometry);
+  reference->SetReconstructionKernel(kernel);
+  reference->SetRaysPerPixelSide(referenceRays);
+  const double start = Now();
+  reference->Update();
+  const double              referenceSeconds = Now() - start;
+  const pbdrr::bench::Image truth = pbdrr::bench::ToVector(reference->GetOutput());
+  std::cout << "| exact (reference) | " << kernelName << " | " << referenceRays * referenceRays << " | "
+            << referenceSeconds << " | 0 | 0 | 0 | 1 |\n";
+  for (unsigned int rays : { 1u, 2u, 4u })
+  {
+    auto exact = ExactType::New();
+    exact->SetInput(volume);
+    exact->SetGeometry(geometry);
+    exact->SetReconstructionKernel(kernel);
+    exact->SetRaysPerPixelSide(rays);
+    exact->Update(); // builds the attenuation volume once
+    const double seconds = MedianSeconds(exact.GetPointer(), runs);
+    const Errors e = Compare(exact->GetOutput(), truth);
+    std::cout << "| exact | " << kernelName << " | " << rays * rays << " | " << seconds << " | " << e.Nrmse << " | "
+              << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
+  }
+  for (const std::string & samplerName : samplers)
+    SamplerRows(volume, geometry, kernel, samplerName, runs, truth);
 }
 } // namespace
 
@@ -112,12 +159,7 @@ main(int argc, char * argv[])
   }
   if (argc > 7)
   {
-    samplers.clear();
-    std::stringstream list(argv[7]);
-    for (std::string name; std::getline(list, name, ',');)
-    {
-      samplers.push_back(name);
-    }
+    samplers = pbdrr::bench::SplitList(argv[7], true);
   }
   const std::vector<KernelEnum> kernels =
     argc > 8 && std::string(argv[8]) == "box"    ? std::vector<KernelEnum>{ KernelEnum::Box }
@@ -125,9 +167,9 @@ main(int argc, char * argv[])
                                                  : std::vector<KernelEnum>{ KernelEnum::Box, KernelEnum::Tent };
   try
   {
-    auto                            start = std::chrono::steady_clock::now();
+    const double                    start = Now();
     const auto                      volume = pbdrr::LoadVolume(argv[1], "").Image;
-    const double                    loadSeconds = Seconds(start);
+    const double                    loadSeconds = Now() - start;
     const auto                      region = volume->GetLargestPossibleRegion();
     itk::ContinuousIndex<double, 3> centreIndex;
     for (unsigned int a = 0; a < 3; ++a)
@@ -148,64 +190,11 @@ main(int argc, char * argv[])
               << " deg, SAD 1000 mm, SID 1500 mm; threads " << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads()
               << "; median of " << runs << " runs\n\n";
 
-    using ExactType = itk::ExactDRRImageFilter<VolumeType, ProjectionType>;
-    using PointType = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>;
     std::cout << "| method | kernel | samples or rays/pixel | wall time (s) | NRMSE (range) | RMSE / mean | max error "
                  "(range) | sum ratio |\n|---|---|---|---|---|---|---|---|\n";
     std::cout << std::setprecision(4);
     for (KernelEnum kernel : kernels)
-    {
-      const char * kernelName = kernel == KernelEnum::Box ? "box (Siddon)" : "tent (trilinear)";
-      auto         reference = ExactType::New();
-      reference->SetInput(volume);
-      reference->SetGeometry(geometry);
-      reference->SetReconstructionKernel(kernel);
-      reference->SetRaysPerPixelSide(referenceRays);
-      start = std::chrono::steady_clock::now();
-      reference->Update();
-      const double              referenceSeconds = Seconds(start);
-      const std::vector<double> truth(reference->GetOutput()->GetBufferPointer(),
-                                      reference->GetOutput()->GetBufferPointer() + cols * cols);
-      std::cout << "| exact (reference) | " << kernelName << " | " << referenceRays * referenceRays << " | "
-                << referenceSeconds << " | 0 | 0 | 0 | 1 |\n";
-      for (unsigned int rays : { 1u, 2u, 4u })
-      {
-        auto exact = ExactType::New();
-        exact->SetInput(volume);
-        exact->SetGeometry(geometry);
-        exact->SetReconstructionKernel(kernel);
-        exact->SetRaysPerPixelSide(rays);
-        exact->Update(); // builds the attenuation volume once
-        const double seconds = MedianSeconds(exact.GetPointer(), runs);
-        const Errors e = Compare(exact->GetOutput(), truth);
-        std::cout << "| exact | " << kernelName << " | " << rays * rays << " | " << seconds << " | " << e.Nrmse << " | "
-                  << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
-      }
-      for (const std::string & samplerName : samplers)
-      {
-        auto drr = PointType::New();
-        drr->SetInput(volume);
-        drr->SetGeometry(geometry);
-        drr->SetReconstructionKernel(kernel);
-        drr->SetSampler(itk::DRRSamplerFactory::Create(samplerName));
-        drr->SetNumberOfSamples(1);
-        start = std::chrono::steady_clock::now();
-        drr->Update();
-        const double preprocessSeconds = Seconds(start);
-        std::cout << "| " << samplerName << ": preprocessing (HU->mu, sampling tables: "
-                  << drr->GetSampler()->GetTableSizeInBytes() / 1048576.0 << " MiB) | " << kernelName << " | | "
-                  << preprocessSeconds << " | | | | |\n";
-        for (double samples : { 1e6, 1e7, 1e8 })
-        {
-          drr->SetNumberOfSamples(static_cast<uint64_t>(samples));
-          drr->SetSeed(1);
-          const double seconds = MedianSeconds(drr.GetPointer(), runs);
-          const Errors e = Compare(drr->GetOutput(), truth);
-          std::cout << "| " << samplerName << " | " << kernelName << " | " << samples << " | " << seconds << " | "
-                    << e.Nrmse << " | " << e.RelativeRmse << " | " << e.MaxError << " | " << e.SumRatio << " |\n";
-        }
-      }
-    }
+      KernelRows(volume, geometry, kernel, referenceRays, runs, samplers);
   }
   catch (const std::exception & e)
   {

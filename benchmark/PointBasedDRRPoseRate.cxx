@@ -29,16 +29,13 @@
 #include "itkExactDRRImageFilter.h"
 #include "itkDRRSamplerFactory.h"
 #include "pbdrrVolumeLoader.h"
+#include "pbdrrBenchmarkSupport.h"
 
 #include "itkEuler3DTransform.h"
 #include "itkOrientImageFilter.h"
-#include "itkRayCastInterpolateImageFunction.h"
-#include "itkResampleImageFilter.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <ctime>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -49,13 +46,17 @@
 
 namespace
 {
+using pbdrr::bench::CpuSeconds;
+using pbdrr::bench::Image;
+using pbdrr::bench::Median;
+using pbdrr::bench::MuImageType;
+using pbdrr::bench::Now;
+using pbdrr::bench::ProjectionType;
+using pbdrr::bench::ToVector;
 using VolumeType = pbdrr::VolumeType;
-using MuImageType = itk::Image<float, 3>;
-using ProjectionType = itk::Image<float, 2>;
 using TransformType = itk::Euler3DTransform<double>;
 using KernelEnum = itk::PointBasedDRREnums::ReconstructionKernel;
 using SplatEnum = itk::PointBasedDRREnums::Splat;
-using Image = std::vector<double>;
 
 struct Options
 {
@@ -69,36 +70,6 @@ struct Options
   KernelEnum            Kernel{ KernelEnum::Box };
   double                Gantry{ 90.0 };
 };
-
-double
-Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-double
-CpuSeconds()
-{
-  return static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
-}
-
-double
-Median(std::vector<double> values)
-{
-  std::sort(values.begin(), values.end());
-  const size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-std::vector<std::string>
-Split(const std::string & text)
-{
-  std::vector<std::string> parts;
-  std::stringstream        in(text);
-  for (std::string part; std::getline(in, part, ',');)
-    parts.push_back(part);
-  return parts;
-}
 
 Options
 Parse(int argc, char * argv[])
@@ -115,13 +86,13 @@ Parse(int argc, char * argv[])
     if (arg == "--sizes")
     {
       options.Sizes.clear();
-      for (const auto & s : Split(value()))
+      for (const auto & s : pbdrr::bench::SplitList(value(), true))
         options.Sizes.push_back(static_cast<unsigned>(std::stoul(s)));
     }
     else if (arg == "--samples")
     {
       options.Samples.clear();
-      for (const auto & s : Split(value()))
+      for (const auto & s : pbdrr::bench::SplitList(value(), true))
         options.Samples.push_back(std::stod(s));
     }
     else if (arg == "--field-mm")
@@ -206,21 +177,10 @@ MakePoses(unsigned count)
   return poses;
 }
 
-Image
-ToVector(const ProjectionType * image)
-{
-  const float * b = image->GetBufferPointer();
-  return Image(b, b + image->GetBufferedRegion().GetNumberOfPixels());
-}
-
 double
 Nrmse(const Image & image, const Image & reference)
 {
-  double     squared = 0.0;
-  const auto range = std::minmax_element(reference.begin(), reference.end());
-  for (size_t p = 0; p < image.size(); ++p)
-    squared += (image[p] - reference[p]) * (image[p] - reference[p]);
-  return std::sqrt(squared / image.size()) / (*range.second - *range.first);
+  return pbdrr::bench::Compare(image, reference).Nrmse;
 }
 
 struct Row
@@ -294,14 +254,7 @@ private:
       exact->Update();
       m_References.push_back(ToVector(exact->GetOutput()));
     }
-    m_Mu = MuImageType::New();
-    m_Mu->CopyInformation(m_Volume);
-    m_Mu->SetRegions(m_Volume->GetLargestPossibleRegion());
-    m_Mu->Allocate();
-    const auto * attenuation = exact->GetAttenuationVolume();
-    std::copy(attenuation->GetMuBuffer(),
-              attenuation->GetMuBuffer() + attenuation->GetNumberOfVoxels(),
-              m_Mu->GetBufferPointer());
+    m_Mu = pbdrr::bench::MuImage(m_Volume, exact->GetAttenuationVolume());
   }
 
   /** ITK's ray caster as its 2D-3D registration uses it: one transform object for the resampler and the
@@ -309,59 +262,13 @@ private:
   void
   RayCaster(itk::DRRProjectionGeometry * geometry, unsigned size)
   {
-    using InterpolatorType = itk::RayCastInterpolateImageFunction<MuImageType, double>;
-    using ResampleType = itk::ResampleImageFilter<MuImageType, MuImageType>;
     auto transform = TransformType::New();
     transform->SetCenter(m_Centre);
-    auto interpolator = InterpolatorType::New();
-    interpolator->SetTransform(transform);
-    interpolator->SetThreshold(0.0);
-    InterpolatorType::InputPointType focalPoint;
-    for (unsigned r = 0; r < 3; ++r)
-      focalPoint[r] = geometry->GetSourcePosition()[r];
-    interpolator->SetFocalPoint(focalPoint);
-    auto resample = ResampleType::New();
-    resample->SetInput(m_Mu);
-    resample->SetTransform(transform);
-    resample->SetInterpolator(interpolator);
-    resample->SetSize({ { size, size, 1 } });
-    MuImageType::SpacingType spacing;
-    spacing[0] = spacing[1] = geometry->GetDetectorSpacing()[0];
-    spacing[2] = 1.0;
-    resample->SetOutputSpacing(spacing);
-    MuImageType::PointType     origin;
-    MuImageType::DirectionType direction;
-    const auto                 pixel00 = geometry->GetPixelCenter(0.0, 0.0);
-    for (unsigned r = 0; r < 3; ++r)
-    {
-      origin[r] = pixel00[r];
-      direction[r][0] = geometry->GetColumnDirection()[r];
-      direction[r][1] = geometry->GetRowDirection()[r];
-      direction[r][2] = -geometry->GetNormal()[r];
-    }
-    resample->SetOutputOrigin(origin);
-    resample->SetOutputDirection(direction);
-    Row row;
+    auto resample = pbdrr::bench::MakeRayCaster(m_Mu, geometry, transform);
+    Row  row;
     row.Method = "ITK ray caster";
     row.Size = size;
-    std::vector<double> walls, cpus, errors;
-    for (unsigned p = 0; p < m_Options.RayCasterPoses; ++p)
-    {
-      transform->SetParameters(m_Poses[p]);
-      const double wall = Now(), cpu = CpuSeconds();
-      resample->Update();
-      walls.push_back(Now() - wall);
-      cpus.push_back(CpuSeconds() - cpu);
-      if (p < m_References.size())
-      {
-        const float * b = resample->GetOutput()->GetBufferPointer();
-        errors.push_back(Nrmse(Image(b, b + size * size), m_References[p]));
-      }
-    }
-    row.PerDrr = Median(walls);
-    row.CpuPerDrr = Median(cpus);
-    row.Nrmse = errors.empty() ? NAN : Median(errors);
-    row.Poses = m_Options.RayCasterPoses;
+    this->TimePoses(transform, resample.GetPointer(), m_Options.RayCasterPoses, row);
     this->Add(row);
   }
 
@@ -384,28 +291,37 @@ private:
     const double start = Now();
     drr->Update(); // draws the points (and renders pose 0)
     row.DrawSeconds = Now() - start;
-    std::vector<double> walls, cpus, errors;
-    for (unsigned p = 0; p < m_Options.Poses; ++p)
-    {
-      transform->SetParameters(m_Poses[p]);
-      const double wall = Now(), cpu = CpuSeconds();
-      drr->Update();
-      walls.push_back(Now() - wall);
-      cpus.push_back(CpuSeconds() - cpu);
-      if (p < m_References.size())
-        errors.push_back(Nrmse(ToVector(drr->GetOutput()), m_References[p]));
-    }
+    this->TimePoses(transform, drr.GetPointer(), m_Options.Poses, row);
     if (drr->GetNumberOfPointCloudDraws() != 1)
       throw std::runtime_error("the points were drawn more than once");
     row.Method = "PBDRR " + m_Options.Sampler + " re-projected";
     row.Size = size;
     row.Samples = samples;
+    row.BytesPerPoint = drr->GetPointCloud()->GetBytesPerPoint();
+    this->Add(row);
+  }
+
+  /** Renders the first `poses` poses (the transform set to each, then Update): the median wall and CPU time per DRR,
+   * and the median NRMSE at the poses that have a reference, into `row`. */
+  template <typename TFilter>
+  void
+  TimePoses(TransformType * transform, TFilter * filter, unsigned poses, Row & row) const
+  {
+    std::vector<double> walls, cpus, errors;
+    for (unsigned p = 0; p < poses; ++p)
+    {
+      transform->SetParameters(m_Poses[p]);
+      const double wall = Now(), cpu = CpuSeconds();
+      filter->Update();
+      walls.push_back(Now() - wall);
+      cpus.push_back(CpuSeconds() - cpu);
+      if (p < m_References.size())
+        errors.push_back(Nrmse(ToVector(filter->GetOutput()), m_References[p]));
+    }
     row.PerDrr = Median(walls);
     row.CpuPerDrr = Median(cpus);
     row.Nrmse = errors.empty() ? NAN : Median(errors);
-    row.BytesPerPoint = drr->GetPointCloud()->GetBytesPerPoint();
-    row.Poses = m_Options.Poses;
-    this->Add(row);
+    row.Poses = poses;
   }
 
   void
