@@ -1,5 +1,7 @@
-get_filename_component(MY_CURRENT_DIR "${CMAKE_CURRENT_LIST_FILE}" PATH)
-file(READ "${MY_CURRENT_DIR}/README.md" DOCUMENTATION)
+# One sentence, not the whole README: itk_module() takes DESCRIPTION as one argument, and every semicolon of a long
+# Markdown file would split it (ITK keeps the first piece and warns about the rest).
+set(DOCUMENTATION "Digitally reconstructed radiographs of CT volumes by unbiased Monte Carlo point sampling, with \
+standard-error images and exact Siddon and trilinear reference projectors (see README.md).")
 
 itk_module(PointBasedDRR
   DEPENDS

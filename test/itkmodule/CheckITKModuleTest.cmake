@@ -3,13 +3,17 @@
 #   cmake -DSOURCE_DIR=<test/itkmodule> -DBINARY_DIR=<dir> -DITK_DIR=<dir> -DGENERATOR=<generator>
 #         -DC_COMPILER=<cc> -DCXX_COMPILER=<c++> -P CheckITKModuleTest.cmake
 file(REMOVE_RECURSE "${BINARY_DIR}")
-# -Wno-dev: itk_module() warns, as ITK's does, about each piece of the DESCRIPTION (README.md) after a semicolon.
 execute_process(
-  COMMAND "${CMAKE_COMMAND}" -S "${SOURCE_DIR}" -B "${BINARY_DIR}" -G "${GENERATOR}" -Wno-dev "-DITK_DIR=${ITK_DIR}"
+  COMMAND "${CMAKE_COMMAND}" -S "${SOURCE_DIR}" -B "${BINARY_DIR}" -G "${GENERATOR}" "-DITK_DIR=${ITK_DIR}"
           "-DCMAKE_C_COMPILER=${C_COMPILER}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
   RESULT_VARIABLE _result OUTPUT_VARIABLE _output ERROR_VARIABLE _error)
 if(NOT _result EQUAL 0)
   message(FATAL_ERROR "configuring test/itkmodule failed (${_result}):\n${_output}\n${_error}")
+endif()
+# itk_module() warns, as ITK's does, about every argument it does not know, e.g. the pieces of a DESCRIPTION cut at
+# its semicolons.
+if(_error MATCHES "Unknown argument")
+  message(FATAL_ERROR "itk_module() does not understand itk-module.cmake:\n${_error}")
 endif()
 string(REGEX MATCH "-- PointBasedDRR-Test: [^\n]*" _summary "${_output}")
 message(STATUS "${_summary}")
