@@ -270,8 +270,6 @@ std::string
 Describe(const VolumeType * volume)
 {
   const auto         region = volume->GetLargestPossibleRegion();
-  const float *      values = volume->GetBufferPointer();
-  const auto         range = std::minmax_element(values, values + region.GetNumberOfPixels());
   std::ostringstream s;
   s << "size " << region.GetSize()[0] << " x " << region.GetSize()[1] << " x " << region.GetSize()[2] << ", spacing "
     << volume->GetSpacing()[0] << " x " << volume->GetSpacing()[1] << " x " << volume->GetSpacing()[2] << " mm, origin "
@@ -281,6 +279,13 @@ Describe(const VolumeType * volume)
     s << (r ? "; " : "") << volume->GetDirection()[r][0] << " " << volume->GetDirection()[r][1] << " "
       << volume->GetDirection()[r][2];
   }
+  const float * values = volume->GetBufferPointer();
+  const auto    range = std::minmax_element(values, values + region.GetNumberOfPixels());
+  if (range.first == values + region.GetNumberOfPixels())
+  {
+    s << "], no values (empty)"; // nothing to dereference: the checks that refuse an empty volume come later
+    return s.str();
+  }
   s << "], values " << *range.first << " .. " << *range.second;
   return s.str();
 }
@@ -289,13 +294,13 @@ std::string
 DescribeGeometry(const itk::DRRProjectionGeometry * g)
 {
   std::ostringstream s;
-  const bool         perspective = g->GetProjection() == itk::PointBasedDRREnums::Projection::Perspective;
-  s << (perspective ? "perspective" : "parallel") << ", SAD " << g->GetSourceToIsocenterDistance() << " mm, SID "
-    << g->GetSourceToDetectorDistance() << " mm, isocenter " << g->GetIsocenter() << ", nrm " << g->GetNormal()
-    << ", vup " << g->GetViewUp() << ", detector " << g->GetDetectorSize()[0] << " cols x " << g->GetDetectorSize()[1]
-    << " rows at " << g->GetDetectorSpacing()[0] << " x " << g->GetDetectorSpacing()[1] << " mm, offset "
-    << g->GetDetectorOffset()[0] << " " << g->GetDetectorOffset()[1] << " mm; source " << g->GetSourcePosition()
-    << ", columns along " << g->GetColumnDirection() << ", rows along " << g->GetRowDirection();
+  s << itk::DRRPolicies::Beams::GetName(g->GetProjection()) << ", SAD " << g->GetSourceToIsocenterDistance()
+    << " mm, SID " << g->GetSourceToDetectorDistance() << " mm, isocenter " << g->GetIsocenter() << ", nrm "
+    << g->GetNormal() << ", vup " << g->GetViewUp() << ", detector " << g->GetDetectorSize()[0] << " cols x "
+    << g->GetDetectorSize()[1] << " rows at " << g->GetDetectorSpacing()[0] << " x " << g->GetDetectorSpacing()[1]
+    << " mm, offset " << g->GetDetectorOffset()[0] << " " << g->GetDetectorOffset()[1] << " mm; source "
+    << g->GetSourcePosition() << ", columns along " << g->GetColumnDirection() << ", rows along "
+    << g->GetRowDirection();
   return s.str();
 }
 
