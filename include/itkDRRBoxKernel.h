@@ -27,7 +27,7 @@ namespace itk
  * projection is Siddon's). Offsets are in voxels, per axis.
  *
  * A kernel policy provides Reach (how far from the voxel centre a point can go, voxels) and Offset(bits), the offset
- * along one axis from 32 random bits. Register a new one with one case in WithKernel() in itkDRRPointRenderer.cxx.
+ * along one axis from 32 random bits. Register a new one with one case in WithKernel() in src/itkDRRPolicyDispatch.h.
  *
  * \ingroup PointBasedDRR
  */

@@ -29,7 +29,7 @@ namespace itk
  * many pixels a point can reach) and Locate(column, row, columns, rows, pixel, share): for each corner the pixel index
  * (columns fastest) and the share of the point's weight, or pixel -1 and share 0 off the detector. Locate() must be
  * branch-free (selects, no early exits) so that the renderer's loop over a batch vectorizes. Register a new policy
- * with one case in WithSplat() in itkDRRPointRenderer.cxx.
+ * with one case in WithSplat() in src/itkDRRPolicyDispatch.h.
  *
  * \ingroup PointBasedDRR
  */
