@@ -57,7 +57,15 @@ private:
     }
     Batch & batch = *worker.Scratch;
     m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t, uint64_t count) {
-      m_Splatter.ProjectAndSplat(count, batch, strata.GetNumberOfStrata(), worker.Sums);
+      m_Splatter.ProjectAndSplat(count,
+                                 batch.X,
+                                 batch.Y,
+                                 batch.Z,
+                                 batch.Weight,
+                                 batch.Stratum,
+                                 batch.Splat,
+                                 strata.GetNumberOfStrata(),
+                                 worker.Sums);
     });
   }
 
@@ -139,15 +147,15 @@ private:
     for (uint64_t first = chunk * DRRPointRenderer::SamplesPerChunk; first < end; first += samplesPerBatch)
     {
       const uint64_t count = std::min(samplesPerBatch, end - first);
-      m_Splatter.ProjectAndSplatCloud(count,
-                                      m_Cloud.GetX() + first,
-                                      m_Cloud.GetY() + first,
-                                      m_Cloud.GetZ() + first,
-                                      weights ? weights + first : ones.data(),
-                                      stratum ? stratum + first : zeros.data(),
-                                      batch,
-                                      strata.GetNumberOfStrata(),
-                                      worker.Sums);
+      m_Splatter.ProjectAndSplat(count,
+                                 m_Cloud.GetX() + first,
+                                 m_Cloud.GetY() + first,
+                                 m_Cloud.GetZ() + first,
+                                 weights ? weights + first : ones.data(),
+                                 stratum ? stratum + first : zeros.data(),
+                                 batch,
+                                 strata.GetNumberOfStrata(),
+                                 worker.Sums);
     }
   }
 

@@ -31,7 +31,8 @@ namespace itk
 {
 namespace DRRRendering
 {
-/** Projects placed points and adds them to the fixed-point sums. One instantiation per splat. */
+/** Projects points and adds them to the fixed-point sums. One instantiation per splat, and per precision of the
+ * points (double for a render that draws them, float for the render of a kept cloud): the same steps either way. */
 template <typename TSplat>
 class PointSplatter
 {
@@ -46,75 +47,36 @@ public:
     , m_Unbiased(unbiased)
   {}
 
-  /** Projects the batch's points and adds each to the fixed-point sums of its stratum (and to the sums of squares,
-   * with one stratum): first the pixel and fixed-point value of every corner (a loop that vectorizes), then the
-   * additions. */
+  /** Projects count points (continuous indices x, y, z, sampler weights, strata) and adds each to the fixed-point sums
+   * of its stratum (and to the sums of squares, with one stratum): first the sum index and fixed-point value of every
+   * corner (a loop that vectorizes), then the additions. A corner off the detector goes to the trash slot past the
+   * pixels' sums (with value 0): the additions need no branch. */
+  template <typename TReal, typename TStratum>
   inline void
-  ProjectAndSplat(uint64_t count, Batch & batch, uint64_t numberOfStrata, Accumulator & sums) const
-  {
-    m_Projection.ProjectBatch(count, batch.X, batch.Y, batch.Z, batch.Column, batch.Row, batch.Perspective);
-    const bool squares = !sums.SumOfSquares.empty();
-    // One loop per case, each free of calls and branches, so that it vectorizes.
-    if (m_SmallFixedPoint)
-    {
-      squares ? this->PrepareCorners<true, true>(count, batch) : this->PrepareCorners<true, false>(count, batch);
-    }
-    else
-    {
-      squares ? this->PrepareCorners<false, true>(count, batch) : this->PrepareCorners<false, false>(count, batch);
-    }
-    constexpr unsigned int corners = TSplat::Corners;
-    int64_t *              sumOfSquares = sums.SumOfSquares.data();
-    uint64_t               landed = 0;
-    for (uint64_t s = 0; s < count; ++s)
-    {
-      int64_t * sum = sums.Sum.data() + (numberOfStrata > 1 ? batch.Stratum[s] : 0);
-      bool      reached = false;
-      for (unsigned int c = 0; c < corners; ++c)
-      {
-        const int32_t pixel = batch.Pixel[corners * s + c];
-        if (pixel >= 0)
-        {
-          sum[pixel * numberOfStrata] += batch.Value[corners * s + c];
-          if (squares)
-          {
-            sumOfSquares[pixel] += batch.Square[corners * s + c];
-          }
-          reached = true;
-        }
-      }
-      landed += reached ? 1 : 0;
-    }
-    sums.PointsOnDetector += landed;
-  }
-
-  /** ProjectAndSplat() for the points of a kept cloud (count of them from x, y, z, weight, stratum), in single
-   * precision up to the fixed-point values (see DRRPointProjection::ProjectBatch()). A corner off the detector goes
-   * to the trash slot past the pixels' sums (with value 0): the additions need no branch. */
-  inline void
-  ProjectAndSplatCloud(uint64_t        count,
-                       const float *   x,
-                       const float *   y,
-                       const float *   z,
-                       const float *   weight,
-                       const uint8_t * stratum,
-                       CloudBatch &    batch,
-                       uint64_t        numberOfStrata,
-                       Accumulator &   sums) const
+  ProjectAndSplat(uint64_t            count,
+                  const TReal *       x,
+                  const TReal *       y,
+                  const TReal *       z,
+                  const TReal *       weight,
+                  const TStratum *    stratum,
+                  SplatBatch<TReal> & batch,
+                  uint64_t            numberOfStrata,
+                  Accumulator &       sums) const
   {
     m_Projection.ProjectBatch(count, x, y, z, batch.Column, batch.Row, batch.Perspective);
     const bool squares = !sums.SumOfSquares.empty();
     const auto strata = static_cast<int32_t>(numberOfStrata);
     uint64_t   landed;
+    // One loop per case, each free of calls and branches, so that it vectorizes.
     if (m_SmallFixedPoint)
     {
-      landed = squares ? this->PrepareCloudCorners<true, true>(count, weight, stratum, strata, batch)
-                       : this->PrepareCloudCorners<true, false>(count, weight, stratum, strata, batch);
+      landed = squares ? this->PrepareCorners<true, true>(count, weight, stratum, strata, batch)
+                       : this->PrepareCorners<true, false>(count, weight, stratum, strata, batch);
     }
     else
     {
-      landed = squares ? this->PrepareCloudCorners<false, true>(count, weight, stratum, strata, batch)
-                       : this->PrepareCloudCorners<false, false>(count, weight, stratum, strata, batch);
+      landed = squares ? this->PrepareCorners<false, true>(count, weight, stratum, strata, batch)
+                       : this->PrepareCorners<false, false>(count, weight, stratum, strata, batch);
     }
     sums.PointsOnDetector += landed;
     int64_t * sum = sums.Sum.data();
@@ -153,19 +115,19 @@ private:
     }
   }
 
-  /** The sum index and fixed-point value (and square) of every corner of every point of a cloud batch; returns the
-   * number of points that reach the detector. The contribution is rounded to float, then scaled exactly (the scales
-   * are powers of two) and rounded to fixed point in double; its square is exact in double. */
-  template <bool VSmall, bool VSquares>
+  /** The sum index and fixed-point value (and square) of every corner of every point of a batch; returns the number of
+   * points that reach the detector. The contribution is rounded to TReal, then scaled exactly (the scales are powers
+   * of two) and rounded to fixed point in double; its square is exact in double when TReal is float. */
+  template <bool VSmall, bool VSquares, typename TReal, typename TStratum>
   inline uint64_t
-  PrepareCloudCorners(uint64_t        count,
-                      const float *   pointWeight,
-                      const uint8_t * stratum,
-                      int32_t         strata,
-                      CloudBatch &    batch) const
+  PrepareCorners(uint64_t            count,
+                 const TReal *       pointWeight,
+                 const TStratum *    stratum,
+                 int32_t             strata,
+                 SplatBatch<TReal> & batch) const
   {
     constexpr unsigned int corners = TSplat::Corners;
-    static_assert(corners <= maximumCorners, "CloudBatch holds at most maximumCorners corners per point");
+    static_assert(corners <= maximumCorners, "SplatBatch holds at most maximumCorners corners per point");
     const bool    unbiased = m_Unbiased;
     const double  sumScale = m_SumScale;
     const double  squareScale = m_SquareScale;
@@ -175,23 +137,23 @@ private:
     // Widened in a loop of its own: bytes in the loop below keep it from vectorizing for AVX-512F (no byte vectors).
     for (uint64_t s = 0; s < count; ++s)
     {
-      batch.Stratum[s] = stratum[s];
+      batch.Stratum[s] = static_cast<int32_t>(stratum[s]);
     }
     // Without the perspective weight, a factor 1 (exact): a select on unbiased in the loop below would not vectorize.
     if (!unbiased)
     {
-      std::fill(batch.Perspective, batch.Perspective + count, 1.0f);
+      std::fill(batch.Perspective, batch.Perspective + count, TReal(1));
     }
     for (uint64_t s = 0; s < count; ++s)
     {
       // A point that does not count lands off the detector (and has perspective weight 0). Every load unconditional,
       // so that the selects need no branch.
-      const float   ownWeight = pointWeight[s];
-      const float   perspective = batch.Perspective[s];
-      const float   weight = ownWeight * perspective;
+      const TReal   ownWeight = pointWeight[s];
+      const TReal   perspective = batch.Perspective[s];
+      const TReal   weight = ownWeight * perspective;
       const int32_t ownStratum = batch.Stratum[s];
       int32_t       pixel[corners];
-      float         share[corners];
+      TReal         share[corners];
       TSplat::Locate(batch.Column[s], batch.Row[s], columns, rows, pixel, share);
       for (unsigned int c = 0; c < corners; ++c)
       {
@@ -214,35 +176,6 @@ private:
       landed += reached;
     }
     return static_cast<uint64_t>(landed);
-  }
-
-  /** The pixel and fixed-point value (and square) of every corner of every point. */
-  template <bool VSmall, bool VSquares>
-  inline void
-  PrepareCorners(uint64_t count, Batch & batch) const
-  {
-    constexpr unsigned int corners = TSplat::Corners;
-    static_assert(corners <= maximumCorners, "Batch holds at most maximumCorners corners per point");
-    const bool    unbiased = m_Unbiased;
-    const double  sumScale = m_SumScale;
-    const double  squareScale = m_SquareScale;
-    const int32_t columns = m_Columns;
-    const int32_t rows = m_Rows;
-    for (uint64_t s = 0; s < count; ++s)
-    {
-      // A point that does not count has perspective weight 0 and lands off the detector.
-      const double weight = unbiased ? batch.Weight[s] * batch.Perspective[s] : batch.Weight[s];
-      int32_t      pixel[corners];
-      double       share[corners];
-      TSplat::Locate(batch.Column[s], batch.Row[s], columns, rows, pixel, share);
-      for (unsigned int c = 0; c < corners; ++c)
-      {
-        const double contribution = weight * share[c];
-        batch.Pixel[corners * s + c] = pixel[c];
-        batch.Value[corners * s + c] = Round<VSmall>(contribution * sumScale);
-        batch.Square[corners * s + c] = VSquares ? Round<VSmall>(contribution * contribution * squareScale) : 0;
-      }
-    }
   }
 
   /** llrint(x). For |x| < 2^51 (VSmall): adding 1.5 2^52 rounds to the nearest integer (ties to even, as llrint) in

@@ -29,7 +29,7 @@ PrepareWorkers(DRRPointRenderer::Workspace & workspace,
                MultiThreaderBase *           threader)
 {
   // Past the pixels' sums, one trash slot per stratum, where corners off the detector add their 0 (see
-  // PointSplatter::ProjectAndSplatCloud()).
+  // PointSplatter::ProjectAndSplat()).
   const size_t sumSize = (numberOfPixels + 1) * strata.GetNumberOfStrata();
   const size_t squareSize = strata.GetNumberOfStrata() == 1 ? numberOfPixels + 1 : 0;
   workspace.Workers.resize(DRRWorkScheduler::GetNumberOfWorkers(threader, strata.GetNumberOfChunks()));

@@ -43,33 +43,35 @@ struct Accumulator
   uint64_t             PointsOnDetector{ 0 };
 };
 
-/** One batch, structure of arrays, so that the placement and projection loops vectorize. */
-struct Batch
-{
-  uint64_t Voxel[samplesPerBatch];
-  uint32_t I[samplesPerBatch + DRRPointSampler::CoordinateSlack];
-  uint32_t J[samplesPerBatch + DRRPointSampler::CoordinateSlack];
-  uint32_t K[samplesPerBatch + DRRPointSampler::CoordinateSlack];
-  double   Weight[samplesPerBatch];
-  uint32_t Stratum[samplesPerBatch];
-  uint32_t JitterX[samplesPerBatch], JitterY[samplesPerBatch], JitterZ[samplesPerBatch];
-  double   X[samplesPerBatch], Y[samplesPerBatch], Z[samplesPerBatch];
-  double   Column[samplesPerBatch], Row[samplesPerBatch], Perspective[samplesPerBatch];
-  int32_t  Pixel[maximumCorners * samplesPerBatch]; // per point and splat corner; -1: off the detector
-  int64_t  Value[maximumCorners * samplesPerBatch]; // fixed point
-  int64_t  Square[maximumCorners * samplesPerBatch];
-};
-
-/** One batch of the render of a kept cloud, in single precision (see DRRPointProjection::ProjectBatch()). Corner
+/** One batch of projected points and their corners, structure of arrays in the precision TReal of the projection
+ * (double: a render that draws; float: the render of a kept cloud, see DRRPointProjection::ProjectBatch()). Corner
  * major (corner c of point s at c * samplesPerBatch + s), so that every store of the preparation loop is contiguous. */
-struct CloudBatch
+template <typename TReal>
+struct SplatBatch
 {
-  float   Column[samplesPerBatch], Row[samplesPerBatch], Perspective[samplesPerBatch];
+  TReal   Column[samplesPerBatch], Row[samplesPerBatch], Perspective[samplesPerBatch];
   int32_t Index[maximumCorners * samplesPerBatch]; // into the sums: pixel * strata + stratum, or the trash slot
   int64_t Value[maximumCorners * samplesPerBatch]; // fixed point
   int64_t Square[maximumCorners * samplesPerBatch];
   int32_t Stratum[samplesPerBatch];
 };
+
+/** One batch of drawn points, structure of arrays, so that the placement and projection loops vectorize. */
+struct Batch
+{
+  uint64_t           Voxel[samplesPerBatch];
+  uint32_t           I[samplesPerBatch + DRRPointSampler::CoordinateSlack];
+  uint32_t           J[samplesPerBatch + DRRPointSampler::CoordinateSlack];
+  uint32_t           K[samplesPerBatch + DRRPointSampler::CoordinateSlack];
+  double             Weight[samplesPerBatch];
+  uint32_t           Stratum[samplesPerBatch];
+  uint32_t           JitterX[samplesPerBatch], JitterY[samplesPerBatch], JitterZ[samplesPerBatch];
+  double             X[samplesPerBatch], Y[samplesPerBatch], Z[samplesPerBatch];
+  SplatBatch<double> Splat; // their projection and corners
+};
+
+/** One batch of the render of a kept cloud: its points are read from the cloud. */
+using CloudBatch = SplatBatch<float>;
 
 /** What one worker owns: its sums and its batch (allocated once per render, not per chunk; only the kind of batch
  * its render uses). */
