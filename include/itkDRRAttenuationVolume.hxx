@@ -19,6 +19,7 @@
 #define itkDRRAttenuationVolume_hxx
 
 #include "itkDRRAttenuationVolume.h"
+#include "itkDRRCompilerSupport.h"
 #include "itkDRRTransferFunction.h"
 
 #include <algorithm>
@@ -102,11 +103,7 @@ private:
 inline void
 PrefetchNextLineForWrite(const void * address)
 {
-#if defined(__GNUC__) || defined(__clang__)
-  __builtin_prefetch(reinterpret_cast<const void *>(reinterpret_cast<uintptr_t>(address) + 64), 1, 3);
-#else
-  (void)address;
-#endif
+  PointBasedDRR_PREFETCH(reinterpret_cast<const void *>(reinterpret_cast<uintptr_t>(address) + 64), 1, 3);
 }
 
 /** True if a value is finite and an integer. */

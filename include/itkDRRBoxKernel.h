@@ -30,7 +30,7 @@ namespace itk
  * A kernel policy provides who it is (Id, its enumerator; Name and Description, for the command line;
  * ExactReference, the name of the exact projector of its model, or null if it has none), Reach (how far from the voxel
  * centre a point can go, voxels) and Offset(bits), the offset along one axis from 32 random bits. A new kernel is its
- * own header, an enumerator in PointBasedDRREnums::ReconstructionKernel and one line in DRRKernelPolicies
+ * own header, an enumerator in PointBasedDRREnums::ReconstructionKernel and one line in DRRPolicies::Kernels
  * (itkDRRPolicies.h).
  *
  * \ingroup PointBasedDRR

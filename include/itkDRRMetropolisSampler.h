@@ -35,7 +35,8 @@ namespace itk
  * includes the correlation. GetAutocorrelationTime() is the chain's integrated autocorrelation time of the sampled
  * mu (from batch means over 2^20 steps): the factor by which it needs more points than independent sampling.
  *
- * `metropolis` in DRRSamplerFactory; rendered as 16 strata by default (GetPreferredNumberOfStrata()).
+ * `metropolis` in DRRSamplerFactory; rendered as 16 strata by default
+ * (DRRSamplerTraits::PreferredNumberOfStrata).
  *
  * \sa DRRLevelAliasSampler (the same law, drawn independently), DRRPaperHybridSampler
  * \ingroup PointBasedDRR
@@ -72,10 +73,13 @@ public:
                 uint64_t *          voxelIndex,
                 double *            weight) const override;
 
-  bool
-  HasIndependentSamples() const override
+  /** Dependent points (one chain per batch): the standard error comes from independent strata (16 by default). */
+  DRRSamplerTraits
+  GetTraits() const override
   {
-    return false;
+    DRRSamplerTraits traits;
+    traits.IndependentSamples = false;
+    return traits;
   }
 
   size_t

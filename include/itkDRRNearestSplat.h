@@ -32,7 +32,7 @@ namespace itk
  * Locate(column, row, columns, rows, pixel, share): for each corner the pixel index (columns fastest) and the share of
  * the point's weight, or pixel -1 and share 0 off the detector. Locate() must be branch-free (selects, no early exits)
  * so that the renderer's loop over a batch vectorizes. A new splat is its own header, an enumerator in
- * PointBasedDRREnums::Splat and one line in DRRSplatPolicies (itkDRRPolicies.h).
+ * PointBasedDRREnums::Splat and one line in DRRPolicies::Splats (itkDRRPolicies.h).
  *
  * \ingroup PointBasedDRR
  */

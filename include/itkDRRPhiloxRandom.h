@@ -18,6 +18,8 @@
 #ifndef itkDRRPhiloxRandom_h
 #define itkDRRPhiloxRandom_h
 
+#include "itkDRRCompilerSupport.h"
+
 #include <array>
 #include <cstdint>
 
@@ -66,7 +68,7 @@ public:
   ToRange(uint32_t low, uint32_t high, uint64_t n)
   {
     const uint64_t bits = (static_cast<uint64_t>(high) << 32) | low;
-    return static_cast<uint64_t>((static_cast<unsigned __int128>(bits) * n) >> 64);
+    return DRRMultiplyHigh64(bits, n);
   }
 
   /** Uniform integer in [0, n) from 32 random bits, n < 2^32 (non-uniformity below n / 2^32). */

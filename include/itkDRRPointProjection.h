@@ -19,11 +19,14 @@
 #define itkDRRPointProjection_h
 
 #include "itkDRRAttenuationVolume.h"
+#include "itkDRRCompilerSupport.h"
 #include "itkDRRProjectionGeometry.h"
 #include "PointBasedDRRExport.h"
 
 #include <array>
 #include <cmath>
+#include <limits>
+#include <type_traits>
 
 namespace itk
 {
@@ -74,100 +77,65 @@ public:
   /** Projects n points given as continuous voxel indices (x, y, z): column and row are continuous pixel indices
    * (pixel centres at integers), weight the perspective weight (1 for parallel). A point that does not count (behind
    * the source, beyond the detector plane, or nearer the source than the minimum depth) gets weight 0 and column -4,
-   * off the detector for every splat. Branch-free, so that the loop vectorizes. */
+   * off the detector for every splat. Branch-free, so that the loop vectorizes.
+   *
+   * TReal is double for a render that draws its points, float for the render of a kept cloud (whose points are floats
+   * already): twice the lanes, and single-precision division and square root are several times cheaper than double.
+   * In float, the column is off by at most about 1e-5 pixels and the weight by a relative 1e-7: far below the Monte
+   * Carlo noise. Only correctly rounded operations, so every instruction set gives the same bits. */
+  template <typename TReal>
   void
-  ProjectBatch(size_t               n,
-               const double * const x,
-               const double * const y,
-               const double * const z,
-               double * __restrict__ column,
-               double * __restrict__ row,
-               double * __restrict__ weight) const
+  ProjectBatch(size_t                         n,
+               const TReal * const            x,
+               const TReal * const            y,
+               const TReal * const            z,
+               TReal * PointBasedDRR_RESTRICT column,
+               TReal * PointBasedDRR_RESTRICT row,
+               TReal * PointBasedDRR_RESTRICT weight) const
   {
-    // Locals, so that the compiler knows the outputs do not alias the parameters (and keeps them in registers).
-    const double pu0 = m_PU0, gu0 = m_GU[0], gu1 = m_GU[1], gu2 = m_GU[2];
-    const double pv0 = m_PV0, gv0 = m_GV[0], gv1 = m_GV[1], gv2 = m_GV[2];
-    const double z0 = m_Z0, gz0 = m_GZ[0], gz1 = m_GZ[1], gz2 = m_GZ[2];
-    const double columnShift = m_ColumnShift, rowShift = m_RowShift;
+    static_assert(std::is_same<TReal, double>::value || std::is_same<TReal, float>::value, "double or float");
+    // Locals, so that the compiler knows the outputs do not alias the parameters (and keeps them in registers); in
+    // the precision of the points (a conversion that changes nothing in double).
+    const TReal pu0 = static_cast<TReal>(m_PU0), gu0 = static_cast<TReal>(m_GU[0]), gu1 = static_cast<TReal>(m_GU[1]),
+                gu2 = static_cast<TReal>(m_GU[2]);
+    const TReal pv0 = static_cast<TReal>(m_PV0), gv0 = static_cast<TReal>(m_GV[0]), gv1 = static_cast<TReal>(m_GV[1]),
+                gv2 = static_cast<TReal>(m_GV[2]);
+    const TReal z0 = static_cast<TReal>(m_Z0), gz0 = static_cast<TReal>(m_GZ[0]), gz1 = static_cast<TReal>(m_GZ[1]),
+                gz2 = static_cast<TReal>(m_GZ[2]);
+    const TReal columnShift = static_cast<TReal>(m_ColumnShift), rowShift = static_cast<TReal>(m_RowShift);
+    const TReal one = 1, offDetector = -4, zero = 0;
     if (!m_Perspective)
     {
-      const double inverseDU = m_InverseDU, inverseDV = m_InverseDV;
+      const TReal inverseDU = static_cast<TReal>(m_InverseDU), inverseDV = static_cast<TReal>(m_InverseDV);
       for (size_t i = 0; i < n; ++i)
       {
         column[i] = (pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i]) * inverseDU + columnShift;
         row[i] = (pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i]) * inverseDV + rowShift;
-        weight[i] = 1.0;
+        weight[i] = one;
       }
       return;
     }
-    const double sid = m_SID, minimumDepth = m_MinimumDepth, sidOverDU = m_SIDOverDU, sidOverDV = m_SIDOverDV;
-    for (size_t i = 0; i < n; ++i)
-    {
-      const double pu = pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i];
-      const double pv = pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i];
-      const double depth = z0 + gz0 * x[i] + gz1 * y[i] + gz2 * z[i];
-      // No branch (& not &&, every operation unconditional, a select at the end), so that the loop vectorizes.
-      const bool   counts = (depth >= minimumDepth) & (depth <= sid);
-      const double inverseZ = 1.0 / depth;
-      const double tu = pu * inverseZ;
-      const double tv = pv * inverseZ;
-      const double magnification = sid * inverseZ;
-      column[i] = counts ? tu * sidOverDU + columnShift : -4.0;
-      row[i] = tv * sidOverDV + rowShift;
-      weight[i] = counts ? magnification * magnification * std::sqrt(1.0 + tu * tu + tv * tv) : 0.0;
-    }
-  }
-
-  /** ProjectBatch() in single precision, for the render of a kept cloud (whose points are floats already): twice the
-   * lanes, and single-precision division and square root are several times cheaper than double. The column is off by
-   * at most about 1e-5 pixels and the weight by a relative 1e-7: far below the Monte Carlo noise. Only correctly
-   * rounded operations, so every instruction set gives the same bits. */
-  void
-  ProjectBatch(size_t              n,
-               const float * const x,
-               const float * const y,
-               const float * const z,
-               float * __restrict__ column,
-               float * __restrict__ row,
-               float * __restrict__ weight) const
-  {
-    const float pu0 = static_cast<float>(m_PU0), gu0 = static_cast<float>(m_GU[0]), gu1 = static_cast<float>(m_GU[1]),
-                gu2 = static_cast<float>(m_GU[2]);
-    const float pv0 = static_cast<float>(m_PV0), gv0 = static_cast<float>(m_GV[0]), gv1 = static_cast<float>(m_GV[1]),
-                gv2 = static_cast<float>(m_GV[2]);
-    const float z0 = static_cast<float>(m_Z0), gz0 = static_cast<float>(m_GZ[0]), gz1 = static_cast<float>(m_GZ[1]),
-                gz2 = static_cast<float>(m_GZ[2]);
-    const float columnShift = static_cast<float>(m_ColumnShift), rowShift = static_cast<float>(m_RowShift);
-    if (!m_Perspective)
-    {
-      const float inverseDU = static_cast<float>(m_InverseDU), inverseDV = static_cast<float>(m_InverseDV);
-      for (size_t i = 0; i < n; ++i)
-      {
-        column[i] = (pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i]) * inverseDU + columnShift;
-        row[i] = (pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i]) * inverseDV + rowShift;
-        weight[i] = 1.0f;
-      }
-      return;
-    }
-    const float sid = static_cast<float>(m_SID), sidOverDU = static_cast<float>(m_SIDOverDU),
-                sidOverDV = static_cast<float>(m_SIDOverDV);
+    const TReal sid = static_cast<TReal>(m_SID), sidOverDU = static_cast<TReal>(m_SIDOverDU),
+                sidOverDV = static_cast<TReal>(m_SIDOverDV);
     // Rounded up, so that no point nearer than the minimum depth counts: its weight would exceed the bound the
-    // fixed-point scale was chosen for.
-    float minimumDepth = static_cast<float>(m_MinimumDepth);
-    minimumDepth = minimumDepth < m_MinimumDepth ? std::nextafter(minimumDepth, HUGE_VALF) : minimumDepth;
+    // fixed-point scale was chosen for (in double, exact already).
+    TReal minimumDepth = static_cast<TReal>(m_MinimumDepth);
+    minimumDepth = minimumDepth < m_MinimumDepth ? std::nextafter(minimumDepth, std::numeric_limits<TReal>::infinity())
+                                                 : minimumDepth;
     for (size_t i = 0; i < n; ++i)
     {
-      const float pu = pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i];
-      const float pv = pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i];
-      const float depth = z0 + gz0 * x[i] + gz1 * y[i] + gz2 * z[i];
+      const TReal pu = pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i];
+      const TReal pv = pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i];
+      const TReal depth = z0 + gz0 * x[i] + gz1 * y[i] + gz2 * z[i];
+      // No branch (& not &&, every operation unconditional, a select at the end), so that the loop vectorizes.
       const bool  counts = (depth >= minimumDepth) & (depth <= sid);
-      const float inverseZ = 1.0f / depth;
-      const float tu = pu * inverseZ;
-      const float tv = pv * inverseZ;
-      const float magnification = sid * inverseZ;
-      column[i] = counts ? tu * sidOverDU + columnShift : -4.0f;
+      const TReal inverseZ = one / depth;
+      const TReal tu = pu * inverseZ;
+      const TReal tv = pv * inverseZ;
+      const TReal magnification = sid * inverseZ;
+      column[i] = counts ? tu * sidOverDU + columnShift : offDetector;
       row[i] = tv * sidOverDV + rowShift;
-      weight[i] = counts ? magnification * magnification * std::sqrt(1.0f + tu * tu + tv * tv) : 0.0f;
+      weight[i] = counts ? magnification * magnification * std::sqrt(one + tu * tu + tv * tv) : zero;
     }
   }
 

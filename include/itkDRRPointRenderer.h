@@ -38,7 +38,7 @@ namespace itk
  * weight times its perspective weight times its splat fraction), M the room attenuation mass and a the pixel area.
  * Its standard error is M / (N a) sqrt(N / (N - 1) (sum c^2 - (sum c)^2 / N)), from the same sums, for samplers of
  * independent points; for dependent points (stratified, Markov chains) the N samples form R independent strata
- * (Settings::NumberOfStrata, by default the sampler's DRRPointSampler::GetPreferredNumberOfStrata(): 4 for the
+ * (Settings::NumberOfStrata, by default the sampler's DRRSamplerTraits::PreferredNumberOfStrata: 4 for the
  * stratified sampler, 16 for the Markov chain) and the standard error comes from the spread of their R estimates.
  *
  * Reproducibility: the N samples are cut into fixed chunks; chunk k draws from the Philox streams keyed by (seed, k).
@@ -62,6 +62,33 @@ public:
   /** Samples per chunk: the unit of random-stream addressing, work distribution and progress. */
   static constexpr uint64_t SamplesPerChunk = 65536;
 
+  /** Fewest points a render draws (Settings::NumberOfSamples): the one home of that rule (renderer and filters). */
+  static constexpr uint64_t MinimumNumberOfSamples = 1;
+
+  /** Fewest samples per stratum: with fewer, a render of dependent points is one run (see Settings::NumberOfStrata).
+   */
+  static constexpr uint64_t MinimumSamplesPerStratum = 16;
+
+  /** The strata a render asks for: requestedStrata (Settings::NumberOfStrata), or, for 0, the sampler's preference
+   * (DRRSamplerTraits::PreferredNumberOfStrata); 1 for a sampler of independent points. */
+  static uint64_t
+  RequestedNumberOfStrata(const DRRSamplerTraits & traits, uint64_t requestedStrata)
+  {
+    if (traits.IndependentSamples)
+    {
+      return 1;
+    }
+    return requestedStrata > 0 ? requestedStrata : traits.PreferredNumberOfStrata;
+  }
+
+  /** True if numberOfSamples fill numberOfStrata strata with at least MinimumSamplesPerStratum samples each: the one
+   * home of the samples-per-stratum rule (the renderer's strata, the filter's warning). */
+  static bool
+  HasEnoughSamplesPerStratum(uint64_t numberOfSamples, uint64_t numberOfStrata)
+  {
+    return numberOfSamples >= MinimumSamplesPerStratum * numberOfStrata;
+  }
+
   /** What to render. */
   struct Settings
   {
@@ -71,8 +98,8 @@ public:
     SplatEnum     Splat{ SplatEnum::Nearest };          ///< how a point is deposited on the detector
     WeightingEnum Weighting{ WeightingEnum::Unbiased }; ///< perspective weight, or the paper's count
     /** Strata R for dependent samplers (0: the sampler's preference); used only if there are at least 16 points
-     * per stratum (N >= 16 R), otherwise, like R = 1, one stratum (standard error from the points as if they were
-     * independent). */
+     * per stratum (N >= 16 R, HasEnoughSamplesPerStratum()), otherwise, like R = 1, one stratum (standard error from
+     * the points as if they were independent). */
     uint64_t NumberOfStrata{ 0 };
   };
 
@@ -90,12 +117,12 @@ public:
     uint64_t            NumberOfSamples{ 0 };      ///< drawn: N, or R ceil(N / R) for samplers that interleave R strata
   };
 
-  /** Renders. The volume must be the one the sampler was initialized with; the sampler is culled to the view
-   * (DRRPointSampler::SetView()). Progress goes to progressFilter (may be null), which is also checked for abort
-   * between chunks. */
+  /** Renders. The volume must be the one the sampler was initialized with; the points are drawn from the sampler's
+   * plan for the view (DRRPointSampler::MakeViewPlan(): culled, for samplers that cull), and the sampler is not
+   * changed. Progress goes to progressFilter (may be null), which is also checked for abort between chunks. */
   static Result
   Render(const DRRAttenuationVolume & volume,
-         DRRPointSampler &            sampler,
+         const DRRPointSampler &      sampler,
          DRRPointProjection           projection,
          const Settings &             settings,
          MultiThreaderBase *          threader,
@@ -105,7 +132,7 @@ public:
    * over the whole volume (no culling: they serve every view) and keeps them, for Render(cloud, ...). */
   static DRRPointCloud::Pointer
   Draw(const DRRAttenuationVolume & volume,
-       DRRPointSampler &            sampler,
+       const DRRPointSampler &      sampler,
        const Settings &             settings,
        MultiThreaderBase *          threader,
        ProcessObject *              progressFilter);

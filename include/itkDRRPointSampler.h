@@ -21,7 +21,11 @@
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRPhiloxRandom.h"
 #include "itkDRRPointProjection.h"
+#include "itkDRRSamplerTraits.h"
+#include "itkDRRSamplerViewPlan.h"
 #include "PointBasedDRRExport.h"
+
+#include <memory>
 
 namespace itk
 {
@@ -35,7 +39,13 @@ namespace itk
  *
  * Batches are addressed by sample index (SampleRange): a sampler may use the index (stratified samplers do) and must
  * draw its random numbers from the stream it is handed or from streams keyed by the seed and stratum, so that results
- * depend on the seed alone, never on threads. GenerateBatch() is const and called concurrently.
+ * depend on the seed alone, never on threads. GenerateBatch() and GenerateCoordinates() are const and called
+ * concurrently.
+ *
+ * The renderer asks three things: GetTraits() (how the points behave), MakeViewPlan() (what to draw from for a view:
+ * an immutable plan, held for the render; a render never changes the sampler) and GenerateCoordinates() (the points
+ * of a batch). A simple sampler writes only Initialize() and GenerateBatch() (linear voxel indices): the default
+ * GenerateCoordinates() turns them into coordinates, and the default plan is the whole volume.
  *
  * A new sampler is one subclass and one line in itkDRRSamplerFactory.cxx.
  *
@@ -67,11 +77,18 @@ public:
   /** Largest weight GenerateBatch() can return (1 for exact importance samplers). */
   itkGetConstMacro(MaximumWeight, double);
 
+  /** How the sampler's points behave (see DRRSamplerTraits); the default: independent points, nothing more. */
+  virtual DRRSamplerTraits
+  GetTraits() const
+  {
+    return DRRSamplerTraits{};
+  }
+
   /** Where a batch sits among the samples of a render. The samples [0, N) are cut into strata, independent
    * replicates of the render (one stratum unless the sampler's points are dependent, see
-   * HasIndependentSamples()). Strata are runs of consecutive samples, and a batch lies inside one; or, for samplers
-   * that InterleavesStrata(), NumberOfStrata strata share one run and the sampler says which stratum each sample
-   * belongs to. */
+   * DRRSamplerTraits::IndependentSamples). Strata are runs of consecutive samples, and a batch lies inside one; or, for
+   * samplers that interleave strata (DRRSamplerTraits::InterleavesStrata), NumberOfStrata strata share one run and the
+   * sampler says which stratum each sample belongs to. */
   struct SampleRange
   {
     uint64_t Seed{ 0 };           ///< seed of the render
@@ -83,9 +100,11 @@ public:
     uint64_t NumberOfStrata{ 1 }; ///< strata interleaved in the run (each of StratumSize / NumberOfStrata samples)
   };
 
-  /** Fills voxelIndex[0 .. range.Count) (linear index, x fastest) and weight[0 .. range.Count). */
+  /** Fills voxelIndex[0 .. range.Count) (linear index, x fastest) and weight[0 .. range.Count), drawing from random:
+   * the one method a simple sampler writes (the default GenerateCoordinates() calls it). A sampler that overrides
+   * GenerateCoordinates() instead need not write it: the default throws. */
   virtual void
-  GenerateBatch(DRRPhiloxRandom & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const = 0;
+  GenerateBatch(DRRPhiloxRandom & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const;
 
   /** Where a sampler left off in a chunk: the renderer hands the same cursor to the consecutive batches of one chunk
    * (invalid at the start of every chunk), so a sampler that walks its tables in order need not search them again.
@@ -100,8 +119,9 @@ public:
   };
 
   /** What GenerateCoordinates() fills, one entry per sample of the range: voxel coordinates (i, j, k), weights, the
-   * stratum of each sample (interleaving samplers only) and the jitter (ProvidesJitter() samplers only). I, J and K
-   * have room for CoordinateSlack entries past the range, which a sampler may overwrite (branch-free stores). */
+   * stratum of each sample (samplers that interleave strata only) and the jitter (samplers that provide it only). I,
+   * J and K have room for CoordinateSlack entries past the range, which a sampler may overwrite (branch-free stores).
+   */
   static constexpr uint64_t CoordinateSlack = 8;
   /** The arrays GenerateCoordinates() fills (see above). */
   struct CoordinateBatch
@@ -110,76 +130,38 @@ public:
     uint32_t * J;       ///< voxel index along y
     uint32_t * K;       ///< voxel index along z
     double *   Weight;  ///< sampler weight q / P of each sample
-    uint32_t * Stratum; ///< stratum of each sample (samplers that InterleavesStrata() only)
-    uint32_t * JitterX; ///< 32 uniform bits for the kernel's offset along x (samplers that ProvidesJitter() only)
+    uint32_t * Stratum; ///< stratum of each sample (DRRSamplerTraits::InterleavesStrata samplers only)
+    uint32_t * JitterX; ///< 32 uniform bits for the kernel's offset along x (DRRSamplerTraits::ProvidesJitter only)
     uint32_t * JitterY; ///< the same along y
     uint32_t * JitterZ; ///< the same along z
+    uint64_t * Voxel;   ///< room for the linear voxel indices of GenerateBatch() (the default GenerateCoordinates())
   };
 
-  /** True if the sampler implements GenerateCoordinates(), which then replaces GenerateBatch() in renders: voxel
-   * coordinates instead of linear indices (no divisions), and a cursor (no search per batch). */
-  virtual bool
-  GeneratesCoordinates() const
-  {
-    return false;
-  }
-  /** Fills batch[0 .. range.Count) (see CoordinateBatch) for the samples of range, continuing from cursor and leaving
-   * it where the batch ended. Called concurrently (one cursor per thread). Only for samplers that
-   * GeneratesCoordinates(); the default does nothing. */
+  /** The plan of a render (see DRRSamplerViewPlan), shared and immutable. */
+  using ViewPlanConstPointer = std::shared_ptr<const DRRSamplerViewPlan>;
+
+  /** What to draw from in a render of a view: for a culling sampler (DRRSamplerTraits::CullsToView), only the voxels
+   * whose points can land on the detector of the projection (a point can move kernelReach voxels from its voxel centre
+   * and share itself with pixels up to pixelReach pixels from its own); the whole volume for a null projection, and
+   * for every view by default. Unbiased: the voxels left out contribute nothing to any pixel. volume: the one the
+   * sampler was initialized with. Const: the sampler is not changed, the plan holds what the view needs. */
+  virtual ViewPlanConstPointer
+  MakeViewPlan(const DRRAttenuationVolume & volume,
+               const DRRPointProjection *   projection,
+               double                       kernelReach,
+               double                       pixelReach) const;
+
+  /** Fills batch[0 .. range.Count) (see CoordinateBatch) for the samples of range drawn from plan (made by this
+   * sampler's MakeViewPlan()), continuing from cursor and leaving it where the batch ended; random is the chunk's
+   * sampler stream. Called concurrently (one cursor per thread). The default calls GenerateBatch() and converts its
+   * linear indices to (i, j, k); a sampler that walks its own tables overrides it (voxel coordinates directly, no
+   * divisions, and a cursor instead of a search per batch). */
   virtual void
-  GenerateCoordinates(const SampleRange &, Cursor &, const CoordinateBatch &) const
-  {}
-
-  /** True (default) if the points are independent draws: the renderer then estimates the standard error from the
-   * points themselves. False (stratified, Markov chains): from the spread of independent strata. */
-  virtual bool
-  HasIndependentSamples() const
-  {
-    return true;
-  }
-
-  /** True if the sampler also chooses where inside the voxel each point goes (GenerateCoordinates() then fills the
-   * jitter: one uniform 32-bit word per sample and axis, each uniform on its own so that the kernel's offsets keep
-   * their law, the point its density); false (default): the renderer draws the kernel's offsets from an independent
-   * stream. Only for samplers that GeneratesCoordinates(). */
-  virtual bool
-  ProvidesJitter() const
-  {
-    return false;
-  }
-
-  /** True if the sampler draws its strata as one run, telling the stratum of every sample (GenerateCoordinates()),
-   * so that one walk through its tables serves all strata. The renderer then draws ceil(N / R) samples per stratum.
-   * Only for dependent samplers that GeneratesCoordinates(). */
-  virtual bool
-  InterleavesStrata() const
-  {
-    return false;
-  }
-
-  /** For dependent samplers, the number of strata that serves them best (the renderer's default). 16 gives a steady
-   * standard-error image (15 degrees of freedom); a stratified sampler loses accuracy with every extra stratum. */
-  virtual unsigned int
-  GetPreferredNumberOfStrata() const
-  {
-    return 16;
-  }
-
-  /** Frustum culling: restricts sampling to the voxels whose points can land on the detector of the view (a point
-   * can move kernelReach voxels from its voxel centre and share itself with pixels up to pixelReach pixels from its
-   * own), or lifts the restriction (null projection). Unbiased: the voxels left out contribute nothing to any pixel.
-   * Default: no culling. A sampler culls for one view at a time. */
-  virtual void
-  SetView(const DRRPointProjection * /* projection */, double /* kernelReach */, double /* pixelReach */)
-  {}
-
-  /** The attenuation mass (mm^2, volume frame) the sampler draws from: GetTotalMass(), or the part inside the view
-   * after SetView(). */
-  virtual double
-  GetSampledMass() const
-  {
-    return m_TotalMass;
-  }
+  GenerateCoordinates(const DRRSamplerViewPlan & plan,
+                      DRRPhiloxRandom &          random,
+                      const SampleRange &        range,
+                      Cursor &                   cursor,
+                      const CoordinateBatch &    batch) const;
 
   /** Bytes held by the sampling tables. */
   virtual size_t

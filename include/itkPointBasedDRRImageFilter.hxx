@@ -65,7 +65,7 @@ template <typename TInputImage, typename TOutputImage>
 DRRPointRenderer::Settings
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t samples, unsigned int pass) const
 {
-  if (samples == 0)
+  if (samples < DRRPointRenderer::MinimumNumberOfSamples)
   {
     itkExceptionMacro("the number of samples must be at least 1");
   }
@@ -74,10 +74,10 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t sampl
     // One stratum of dependent points has no spread to measure: its standard error would assume independence.
     itkExceptionMacro("NumberOfStrata must be 0 (the sampler's choice) or 2 to 256, not 1");
   }
-  if (m_Sampler && !m_Sampler->HasIndependentSamples())
+  if (m_Sampler)
   {
-    const uint64_t strata = m_NumberOfStrata > 0 ? m_NumberOfStrata : m_Sampler->GetPreferredNumberOfStrata();
-    if (strata > 1 && samples < 16 * strata)
+    const uint64_t strata = DRRPointRenderer::RequestedNumberOfStrata(m_Sampler->GetTraits(), m_NumberOfStrata);
+    if (strata > 1 && !DRRPointRenderer::HasEnoughSamplesPerStratum(samples, strata))
     {
       itkWarningMacro("" << samples << " samples are too few for " << strata << " strata of the "
                          << m_Sampler->GetNameOfClass()

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRAttenuationVolume.h"
+#include "itkDRRCompilerSupport.h"
 #include "itkPlatformMultiThreader.h"
 #include "vnl/vnl_det.h"
 
@@ -145,13 +146,11 @@ DRRAttenuationVolume::MaterializeMu() const
           const float    levelMu = m_LevelMu[l];
           const uint64_t levelEnd = m_LevelStart[l + 1];
           uint64_t       c = cursor[l];
-#if defined(__GNUC__) || defined(__clang__)
           // The next level's list is read where this run left it: ask for that line while this level is written.
           if (l + 1 < numberOfLevels)
           {
-            __builtin_prefetch(voxels + cursor[l + 1], 0, 3);
+            PointBasedDRR_PREFETCH(voxels + cursor[l + 1], 0, 3);
           }
-#endif
           for (; c < levelEnd && voxels[c] < last; ++c)
           {
             mu[voxels[c]] = levelMu;

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRLevelAliasSampler.h"
+#include "itkDRRCompilerSupport.h"
 
 #include <algorithm>
 #include <cmath>
@@ -50,7 +51,7 @@ DRRLevelAliasSampler::GenerateBatch(DRRPhiloxRandom &   random,
       const DRRPhiloxRandom::BlockType bits = random.Next();
       levels[i] = m_AliasTable.Draw(bits[0], bits[1]);
       ranks[i] = DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(levels[i]));
-      __builtin_prefetch(m_Levels.GetVoxelAddress(levels[i], ranks[i]));
+      PointBasedDRR_PREFETCH(m_Levels.GetVoxelAddress(levels[i], ranks[i]), 0, 3);
     }
     for (uint64_t i = 0; i < count; ++i)
     {

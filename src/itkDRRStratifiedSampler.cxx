@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRStratifiedSampler.h"
+#include "itkDRRCompilerSupport.h"
 #include "itkMultiThreaderBase.h"
 
 #include <algorithm>
@@ -85,10 +86,37 @@ VoxelInBrick(const uint16_t origin[3], uint64_t position)
 unsigned int
 LowestBit(uint64_t bits)
 {
-  return static_cast<unsigned int>(__builtin_ctzll(bits));
+  return DRRCountTrailingZeros64(bits);
 }
 
 } // namespace
+
+/** The bricks a render samples, in curve order, with the mass before each (1/mm) and the total; immutable. */
+class DRRStratifiedSampler::ViewPlan : public DRRSamplerViewPlan
+{
+public:
+  ViewPlan(double                   sampledMass,
+           const VolumeSizeType &   volumeSize,
+           std::vector<uint32_t> && bricks,
+           std::vector<double> &&   prefix,
+           uint64_t                 voxels)
+    : DRRSamplerViewPlan(sampledMass, volumeSize), Bricks(std::move(bricks)), Prefix(std::move(prefix)), Voxels(voxels)
+  {}
+  const std::vector<uint32_t> Bricks; // the bricks sampled (all, or those in the view)
+  const std::vector<double>   Prefix; // mass before each view brick, and the total (1/mm)
+  const uint64_t              Voxels; // non-air voxels in the view bricks
+};
+
+const DRRStratifiedSampler::ViewPlan &
+DRRStratifiedSampler::AsViewPlan(const DRRSamplerViewPlan & plan)
+{
+  const auto * own = dynamic_cast<const ViewPlan *>(&plan);
+  if (!own)
+  {
+    itkGenericExceptionMacro("DRRStratifiedSampler: the plan was not made by a DRRStratifiedSampler");
+  }
+  return *own;
+}
 
 void
 DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
@@ -177,7 +205,7 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
     brick.Mass = 0.0;
     for (unsigned int g = 0; g < 8; ++g)
     {
-      numberOfVoxels += static_cast<uint64_t>(__builtin_popcountll(brick.Occupancy[g]));
+      numberOfVoxels += uint64_t{ DRRPopCount64(brick.Occupancy[g]) };
       brick.Mass += brick.GroupMass[g];
       brick.LastGroup = brick.Occupancy[g] ? static_cast<uint8_t>(g) : brick.LastGroup;
     }
@@ -212,40 +240,47 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
                                           nullptr);
   m_TotalMass = totalMass * m_VoxelVolume;
   m_MaximumWeight = 1.0;
-  this->SetView(nullptr, 0.0, 0.0); // every brick until a view is set
+  m_WholeVolumePlan = this->KeepBricks([](const Brick &) { return true; });
   this->Modified();
 }
 
 template <typename TKeep>
-void
-DRRStratifiedSampler::KeepBricks(TKeep && keep)
+std::shared_ptr<const DRRStratifiedSampler::ViewPlan>
+DRRStratifiedSampler::KeepBricks(TKeep && keep) const
 {
-  m_ViewBricks.clear();
-  m_ViewPrefix.clear();
-  m_ViewVoxels = 0;
-  double running = 0.0;
+  std::vector<uint32_t> viewBricks;
+  std::vector<double>   viewPrefix;
+  uint64_t              viewVoxels = 0;
+  double                running = 0.0;
   for (size_t b = 0; b < m_Bricks.size(); ++b)
   {
     if (keep(m_Bricks[b]))
     {
-      m_ViewBricks.push_back(static_cast<uint32_t>(b));
-      m_ViewPrefix.push_back(running);
+      viewBricks.push_back(static_cast<uint32_t>(b));
+      viewPrefix.push_back(running);
       running += m_Bricks[b].Mass;
-      m_ViewVoxels +=
+      viewVoxels +=
         (b + 1 < m_Bricks.size() ? m_Bricks[b + 1].FirstVoxel : m_NumberOfNonAirVoxels) - m_Bricks[b].FirstVoxel;
     }
   }
-  m_ViewPrefix.push_back(running);
-  m_SampledMass = running * m_VoxelVolume;
+  viewPrefix.push_back(running);
+  return std::make_shared<const ViewPlan>(running * m_VoxelVolume,
+                                          ViewPlan::VolumeSizeType{ { m_Size[0], m_Size[1], m_Size[2] } },
+                                          std::move(viewBricks),
+                                          std::move(viewPrefix),
+                                          viewVoxels);
 }
 
-void
-DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kernelReach, double pixelReach)
+DRRPointSampler::ViewPlanConstPointer
+DRRStratifiedSampler::MakeViewPlan(const DRRAttenuationVolume &,
+                                   const DRRPointProjection * projection,
+                                   double                     kernelReach,
+                                   double                     pixelReach) const
 {
   if (!projection)
   {
-    this->KeepBricks([](const Brick &) { return true; });
-    return;
+    // Every pose: the whole volume (the plan Initialize() made; before it, a plan of no bricks).
+    return m_WholeVolumePlan ? m_WholeVolumePlan : this->KeepBricks([](const Brick &) { return true; });
   }
   // A point of brick b lies in [8 b - 0.5 - reach, 8 b + 7.5 + reach] per axis (continuous index, clipped to what the
   // kernel can reach of the volume) and counts only if it lands within pixelReach of the detector's pixel centres.
@@ -254,7 +289,7 @@ DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kern
   const double columnHigh = projection->GetNumberOfColumns() - 1.0 + pixelReach + margin;
   const double rowLow = -pixelReach - margin;
   const double rowHigh = projection->GetNumberOfRows() - 1.0 + pixelReach + margin;
-  this->KeepBricks([&](const Brick & brick) {
+  return this->KeepBricks([&](const Brick & brick) {
     double lower[3], upper[3];
     for (unsigned int a = 0; a < 3; ++a)
     {
@@ -285,27 +320,35 @@ DRRStratifiedSampler::SetView(const DRRPointProjection * projection, double kern
   });
 }
 
-void
-DRRStratifiedSampler::Locate(double target, Cursor & cursor) const
+size_t
+DRRStratifiedSampler::GetNumberOfBricksInView(const DRRSamplerViewPlan & plan) const
 {
-  const uint64_t numberOfViewBricks = m_ViewBricks.size();
-  uint64_t       b = cursor.Position[0];
-  if (!cursor.Valid || !(target < m_ViewPrefix[b + 1]))
+  return AsViewPlan(plan).Bricks.size();
+}
+
+void
+DRRStratifiedSampler::Locate(const ViewPlan & plan, double target, Cursor & cursor) const
+{
+  const std::vector<uint32_t> & viewBricks = plan.Bricks;
+  const std::vector<double> &   viewPrefix = plan.Prefix;
+  const uint64_t                numberOfViewBricks = viewBricks.size();
+  uint64_t                      b = cursor.Position[0];
+  if (!cursor.Valid || !(target < viewPrefix[b + 1]))
   {
     // The brick with prefix <= target < next prefix (the last one if rounding put the target at the very end).
-    const auto first = m_ViewPrefix.begin() + static_cast<std::ptrdiff_t>(cursor.Valid ? b + 1 : 1);
-    b = static_cast<uint64_t>(std::upper_bound(first, m_ViewPrefix.end() - 1, target) - m_ViewPrefix.begin()) - 1;
+    const auto first = viewPrefix.begin() + static_cast<std::ptrdiff_t>(cursor.Valid ? b + 1 : 1);
+    b = static_cast<uint64_t>(std::upper_bound(first, viewPrefix.end() - 1, target) - viewPrefix.begin()) - 1;
     b = std::min(b, numberOfViewBricks - 1);
     cursor.Valid = true;
     cursor.Position[0] = b;
     cursor.Position[1] = 0;
-    cursor.Position[2] = m_Bricks[m_ViewBricks[b]].Occupancy[0];
-    cursor.Position[3] = m_Bricks[m_ViewBricks[b]].FirstVoxel;
+    cursor.Position[2] = m_Bricks[viewBricks[b]].Occupancy[0];
+    cursor.Position[3] = m_Bricks[viewBricks[b]].FirstVoxel;
     cursor.Mass[0] = 0.0;
     cursor.Mass[1] = 0.0;
   }
-  const Brick & brick = m_Bricks[m_ViewBricks[b]];
-  const double  rest = target - m_ViewPrefix[b]; // mass into the brick, 1/mm
+  const Brick & brick = m_Bricks[viewBricks[b]];
+  const double  rest = target - viewPrefix[b]; // mass into the brick, 1/mm
   uint64_t      group = cursor.Position[1];
   if (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest)
   {
@@ -313,12 +356,12 @@ DRRStratifiedSampler::Locate(double target, Cursor & cursor) const
     uint64_t voxel = brick.FirstVoxel;
     for (uint64_t g = 0; g < group; ++g)
     {
-      voxel += static_cast<uint64_t>(__builtin_popcountll(brick.Occupancy[g]));
+      voxel += uint64_t{ DRRPopCount64(brick.Occupancy[g]) };
     }
     do
     {
       cursor.Mass[0] += brick.GroupMass[group];
-      voxel += static_cast<uint64_t>(__builtin_popcountll(brick.Occupancy[group]));
+      voxel += uint64_t{ DRRPopCount64(brick.Occupancy[group]) };
       ++group;
     } while (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest);
     cursor.Position[1] = group;
@@ -342,9 +385,13 @@ DRRStratifiedSampler::Locate(double target, Cursor & cursor) const
 }
 
 inline void
-DRRStratifiedSampler::CoordinatesAt(const Cursor & cursor, uint32_t & i, uint32_t & j, uint32_t & k) const
+DRRStratifiedSampler::CoordinatesAt(const ViewPlan & plan,
+                                    const Cursor &   cursor,
+                                    uint32_t &       i,
+                                    uint32_t &       j,
+                                    uint32_t &       k) const
 {
-  const auto v = VoxelInBrick(m_Bricks[m_ViewBricks[cursor.Position[0]]].Origin,
+  const auto v = VoxelInBrick(m_Bricks[plan.Bricks[cursor.Position[0]]].Origin,
                               64 * cursor.Position[1] + LowestBit(cursor.Position[2]));
   i = v[0];
   j = v[1];
@@ -389,11 +436,16 @@ StartStrata(const DRRPointSampler::SampleRange & range)
 } // namespace
 
 void
-DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
+DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
+                                          DRRPhiloxRandom &,
+                                          const SampleRange &     range,
                                           Cursor &                cursor,
                                           const CoordinateBatch & batch) const
 {
-  if (m_ViewBricks.empty())
+  const ViewPlan &              view = AsViewPlan(plan);
+  const std::vector<uint32_t> & viewBricks = view.Bricks;
+  const std::vector<double> &   viewPrefix = view.Prefix;
+  if (viewBricks.empty())
   {
     return;
   }
@@ -404,7 +456,7 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
   cursor.Stratum = range.Stratum;
   const std::vector<StratumStart> strata = StartStrata(range);
   const uint64_t                  numberOfStrata = strata.size();
-  const double                    step = m_ViewPrefix.back() / static_cast<double>(range.StratumSize / numberOfStrata);
+  const double                    step = viewPrefix.back() / static_cast<double>(range.StratumSize / numberOfStrata);
   const uint64_t                  firstIndex = range.First - range.StratumFirst;
   // Sample q of the run: point q / R of stratum strata[q % R]; kept as (point, position) to avoid divisions.
   uint64_t point = firstIndex / numberOfStrata;
@@ -438,14 +490,14 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
   };
   const auto target = [&]() { return (strata[position].Offset + static_cast<double>(point)) * step; };
 
-  if (range.StratumSize < m_ViewVoxels / 2)
+  if (range.StratumSize < view.Voxels / 2)
   {
     // Sparse: samples are many voxels apart; find each.
     for (uint64_t s = 0; s < range.Count; ++s)
     {
-      this->Locate(target(), cursor);
+      this->Locate(view, target(), cursor);
       uint32_t i, j, k;
-      this->CoordinatesAt(cursor, i, j, k);
+      this->CoordinatesAt(view, cursor, i, j, k);
       emit(s, i, j, k);
     }
     return;
@@ -454,7 +506,7 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
   // first sample of a chunk is searched for); then the strata and jitter of the samples.
   if (!cursor.Valid)
   {
-    this->Locate(target(), cursor);
+    this->Locate(view, target(), cursor);
   }
   // The number of samples below mass x is R floor(y) + #{strata with U < frac(y)}, y = x / step; offsets padded with
   // 2 (never below a fraction) to a fixed count, so that the count has no branch.
@@ -489,9 +541,9 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
   double   groupStart = cursor.Mass[0], before = cursor.Mass[1];
   while (index < endIndex)
   {
-    const Brick & brick = m_Bricks[m_ViewBricks[b]];
-    const double  base = m_ViewPrefix[b];
-    const bool    lastGroupOfView = b + 1 == m_ViewBricks.size() && group == brick.LastGroup;
+    const Brick & brick = m_Bricks[viewBricks[b]];
+    const double  base = viewPrefix[b];
+    const bool    lastGroupOfView = b + 1 == viewBricks.size() && group == brick.LastGroup;
     // The voxels left in the group; the last voxel of the view takes what rounding leaves.
     for (; bits; bits &= bits - 1, ++voxel)
     {
@@ -533,15 +585,15 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
     {
       ++b;
       group = 0;
-      while (!m_Bricks[m_ViewBricks[b]].Occupancy[group])
+      while (!m_Bricks[viewBricks[b]].Occupancy[group])
       {
         ++group;
       }
-      voxel = m_Bricks[m_ViewBricks[b]].FirstVoxel;
+      voxel = m_Bricks[viewBricks[b]].FirstVoxel;
       groupStart = 0.0;
       before = 0.0;
     }
-    bits = m_Bricks[m_ViewBricks[b]].Occupancy[group];
+    bits = m_Bricks[viewBricks[b]].Occupancy[group];
   }
   cursor.Position[0] = b;
   cursor.Position[1] = group;
@@ -555,33 +607,13 @@ DRRStratifiedSampler::GenerateCoordinates(const SampleRange &     range,
   }
 }
 
-void
-DRRStratifiedSampler::GenerateBatch(DRRPhiloxRandom &,
-                                    const SampleRange & range,
-                                    uint64_t *          voxelIndex,
-                                    double *            weight) const
-{
-  Cursor                cursor;
-  const uint64_t        room = range.Count + CoordinateSlack;
-  std::vector<uint32_t> scratch(3 * room + 4 * range.Count);
-  uint32_t *            i = scratch.data();
-  uint32_t *            j = i + room;
-  uint32_t *            k = j + room;
-  uint32_t *            stratum = k + room;
-  uint32_t *            jitter = stratum + range.Count;
-  this->GenerateCoordinates(
-    range, cursor, { i, j, k, weight, stratum, jitter, jitter + range.Count, jitter + 2 * range.Count });
-  for (uint64_t s = 0; s < range.Count; ++s)
-  {
-    voxelIndex[s] = i[s] + m_Size[0] * (j[s] + m_Size[1] * uint64_t{ k[s] });
-  }
-}
-
 size_t
 DRRStratifiedSampler::GetTableSizeInBytes() const
 {
-  return m_NumberOfNonAirVoxels * sizeof(float) + m_Bricks.size() * sizeof(Brick) +
-         m_ViewBricks.capacity() * sizeof(uint32_t) + m_ViewPrefix.capacity() * sizeof(double);
+  const size_t wholeVolumePlan = m_WholeVolumePlan ? m_WholeVolumePlan->Bricks.capacity() * sizeof(uint32_t) +
+                                                       m_WholeVolumePlan->Prefix.capacity() * sizeof(double)
+                                                   : 0;
+  return m_NumberOfNonAirVoxels * sizeof(float) + m_Bricks.size() * sizeof(Brick) + wholeVolumePlan;
 }
 
 void
@@ -589,8 +621,6 @@ DRRStratifiedSampler::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
   os << indent << "Bricks (non-empty, 8^3 voxels): " << m_Bricks.size() << std::endl;
-  os << indent << "Bricks in the view: " << m_ViewBricks.size() << std::endl;
   os << indent << "Non-air voxels: " << m_NumberOfNonAirVoxels << std::endl;
-  os << indent << "SampledMass (mm^2): " << m_SampledMass << std::endl;
 }
 } // namespace itk

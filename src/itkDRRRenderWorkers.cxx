@@ -1,0 +1,66 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRRenderWorkers.h"
+#include "itkDRRWorkScheduler.h"
+
+namespace itk
+{
+namespace DRRRendering
+{
+void
+PrepareWorkers(DRRPointRenderer::Workspace & workspace,
+               const Strata &                strata,
+               size_t                        numberOfPixels,
+               MultiThreaderBase *           threader)
+{
+  // Past the pixels' sums, one trash slot per stratum, where corners off the detector add their 0 (see
+  // PointSplatter::ProjectAndSplat()).
+  const size_t sumSize = (numberOfPixels + 1) * strata.GetNumberOfStrata();
+  const size_t squareSize = strata.GetNumberOfStrata() == 1 ? numberOfPixels + 1 : 0;
+  workspace.Workers.resize(DRRWorkScheduler::GetNumberOfWorkers(threader, strata.GetNumberOfChunks()));
+  for (Worker & worker : workspace.Workers)
+  {
+    if (!workspace.Cleared || worker.Sums.Sum.size() != sumSize)
+    {
+      worker.Sums.Sum.assign(sumSize, 0);
+    }
+    if (!workspace.Cleared || worker.Sums.SumOfSquares.size() != squareSize)
+    {
+      worker.Sums.SumOfSquares.assign(squareSize, 0);
+    }
+    worker.Sums.PointsOnDetector = 0;
+  }
+  workspace.Cleared = false; // until a reduction clears the sums again
+}
+
+void
+RunChunks(const ChunkWorkBase &         work,
+          const Strata &                strata,
+          DRRPointRenderer::Workspace & workspace,
+          MultiThreaderBase *           threader,
+          ProcessObject *               progressFilter)
+{
+  std::vector<Worker> & workers = workspace.Workers;
+  DRRWorkScheduler::Run(
+    threader,
+    strata.GetNumberOfChunks(),
+    [&](unsigned int worker, uint64_t chunk) { work.Run(chunk, strata, workers[worker]); },
+    progressFilter);
+}
+} // namespace DRRRendering
+} // namespace itk
