@@ -21,6 +21,8 @@
 #include "itkDRRAliasTable.h"
 #include "itkDRRLevelSampler.h"
 
+#include <sstream>
+
 namespace itk
 {
 /** \class DRRMetropolisSampler
@@ -82,6 +84,17 @@ public:
     return traits;
   }
 
+  /** The chain's acceptance rate and integrated autocorrelation time. */
+  std::string
+  GetStatisticsSummary() const override
+  {
+    std::ostringstream summary;
+    summary << "acceptance rate " << m_AcceptanceRate << ", integrated autocorrelation time " << m_AutocorrelationTime
+            << " (points needed relative to independent sampling)";
+    return summary.str();
+  }
+
+  /** Bytes held by the sampling tables. */
   size_t
   GetTableSizeInBytes() const override
   {

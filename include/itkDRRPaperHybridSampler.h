@@ -20,6 +20,8 @@
 
 #include "itkDRRLevelSampler.h"
 
+#include <sstream>
+
 namespace itk
 {
 /** \class DRRPaperHybridSampler
@@ -80,6 +82,15 @@ public:
 
   size_t
   GetTableSizeInBytes() const override;
+
+  /** The attempts per point of the last Initialize() (the cost of the rejection and the roulette). */
+  std::string
+  GetStatisticsSummary() const override
+  {
+    std::ostringstream summary;
+    summary << m_AttemptsPerPoint << " attempts per point";
+    return summary.str();
+  }
 
   /** Expected number of attempts per point (the cost of the rejection loop). */
   itkGetConstMacro(AttemptsPerPoint, double);

@@ -26,6 +26,7 @@
 #include "PointBasedDRRExport.h"
 
 #include <memory>
+#include <string>
 
 namespace itk
 {
@@ -166,6 +167,14 @@ public:
   /** Bytes held by the sampling tables. */
   virtual size_t
   GetTableSizeInBytes() const = 0;
+
+  /** One line on what the sampler measured of its own draws (e.g. a Markov chain's acceptance rate), for a user's
+   * log (pbdrr --verbose); empty, the default, if there is nothing to say. */
+  virtual std::string
+  GetStatisticsSummary() const
+  {
+    return {};
+  }
 
 protected:
   DRRPointSampler() = default;

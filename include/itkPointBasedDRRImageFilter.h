@@ -80,7 +80,7 @@ public:
   using WeightingEnum = PointBasedDRREnums::PointWeighting;
 
   ///@{
-  /** Number of points drawn (N, at least 1; 64-bit). Default 10^6. */
+  /** Number of points drawn (N, at least 1; 64-bit). Default DRRPointRenderer::DefaultNumberOfSamples (10^7). */
   itkSetMacro(NumberOfSamples, uint64_t);
   itkGetConstMacro(NumberOfSamples, uint64_t);
   ///@}
@@ -207,7 +207,7 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  uint64_t                      m_NumberOfSamples{ 1000000 };
+  uint64_t                      m_NumberOfSamples{ DRRPointRenderer::DefaultNumberOfSamples };
   uint64_t                      m_Seed{ 0 };
   unsigned int                  m_NumberOfStrata{ 0 };
   KernelEnum                    m_ReconstructionKernel{ KernelEnum::Box };

@@ -36,7 +36,7 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::PointBasedDRRInte
   m_Filter->SetSampler(DRRStratifiedSampler::New());
   m_Filter->SetSplat(PointBasedDRREnums::Splat::Bilinear);
   m_Filter->SetReconstructionKernel(PointBasedDRREnums::ReconstructionKernel::Tent);
-  m_Filter->SetNumberOfSamples(2000000);
+  m_Filter->SetNumberOfSamples(DRRPointRenderer::DefaultNumberOfSamples / 5); // a registration's many views
   // The render runs from inside the callers' worker threads (a multi-threaded resampler or metric): on threads of its
   // own, a pool's threads never wait for work queued behind themselves.
   m_Filter->SetMultiThreader(PlatformMultiThreader::New());

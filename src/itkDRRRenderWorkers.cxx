@@ -16,6 +16,8 @@
  *
  *=========================================================================*/
 #include "itkDRRRenderWorkers.h"
+
+#include <limits>
 #include "itkDRRWorkScheduler.h"
 
 namespace itk
@@ -31,6 +33,14 @@ PrepareWorkers(DRRPointRenderer::Workspace & workspace,
   // Past the pixels' sums, one trash slot per stratum, where corners off the detector add their 0 (see
   // PointSplatter::ProjectAndSplat()).
   const size_t sumSize = (numberOfPixels + 1) * strata.GetNumberOfStrata();
+  // The splatter addresses the sums with 32-bit indices (pixel * strata + stratum): half the index width keeps the
+  // scatter loops vectorized. Refuse, rather than wrap around, a detector whose sums do not fit.
+  if (sumSize > static_cast<size_t>(std::numeric_limits<int32_t>::max()))
+  {
+    itkGenericExceptionMacro("DRRPointRenderer: " << numberOfPixels << " pixels x " << strata.GetNumberOfStrata()
+                                                  << " strata is more sums than a render can address (2^31); use fewer "
+                                                     "pixels or strata");
+  }
   const size_t squareSize = strata.GetNumberOfStrata() == 1 ? numberOfPixels + 1 : 0;
   workspace.Workers.resize(DRRWorkScheduler::GetNumberOfWorkers(threader, strata.GetNumberOfChunks()));
   for (Worker & worker : workspace.Workers)

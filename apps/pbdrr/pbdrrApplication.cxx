@@ -21,9 +21,7 @@
 #include "itkCommand.h"
 #include "itkDRRPolicies.h"
 #include "itkExactDRRImageFilter.h"
-#include "itkDRRMetropolisSampler.h"
 #include "itkDRROutputConversion.h"
-#include "itkDRRPaperHybridSampler.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkImageFileWriter.h"
 #include "itkPointBasedDRRImageFilter.h"
@@ -549,15 +547,10 @@ Run(const Options & options)
                 << itk::DRRPolicies::Splats::GetName(options.splat) << ", attenuation mass M "
                 << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
                 << std::endl;
-      if (const auto * chain = dynamic_cast<const itk::DRRMetropolisSampler *>(pointBased->GetSampler()))
+      const std::string statistics = pointBased->GetSampler()->GetStatisticsSummary();
+      if (!statistics.empty())
       {
-        std::cerr << "pbdrr: metropolis chain: acceptance rate " << chain->GetAcceptanceRate()
-                  << ", integrated autocorrelation time " << chain->GetAutocorrelationTime()
-                  << " (points needed relative to independent sampling)" << std::endl;
-      }
-      if (const auto * hybrid = dynamic_cast<const itk::DRRPaperHybridSampler *>(pointBased->GetSampler()))
-      {
-        std::cerr << "pbdrr: paper-hybrid: " << hybrid->GetAttemptsPerPoint() << " attempts per point" << std::endl;
+        std::cerr << "pbdrr: " << options.sampler << ": " << statistics << std::endl;
       }
     }
     for (const auto & note : notes)

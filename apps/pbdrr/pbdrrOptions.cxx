@@ -377,7 +377,8 @@ Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = 
   --parallel             parallel beam along the normal instead of perspective
 
 Rendering:
-  --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default 10M)
+  --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default )" +
+           std::to_string(itk::DRRPointRenderer::DefaultNumberOfSamples / 1000000) + R"(M)
 )") + PolicyLines("--sampler NAME", "how points are drawn", itk::DRRSamplerFactory::GetEntries()) +
          PolicyLines("--kernel NAME", "where in its voxel a point goes", itk::DRRPolicies::Kernels::GetEntries()) +
          PolicyLines("--splat NAME", "how a point lands on the detector", itk::DRRPolicies::Splats::GetEntries()) +

@@ -18,6 +18,7 @@
 #ifndef pbdrrOptions_h
 #define pbdrrOptions_h
 
+#include "itkDRRPointRenderer.h"
 #include "itkPointBasedDRREnums.h"
 
 #include <array>
@@ -56,7 +57,7 @@ struct Options
   std::optional<std::array<double, 2>> detectorOffset;
   bool                                 parallel{ false };
 
-  uint64_t                                      samples{ 10000000 };
+  uint64_t                                      samples{ itk::DRRPointRenderer::DefaultNumberOfSamples };
   std::string                                   sampler{ "level-alias" };
   itk::PointBasedDRREnums::ReconstructionKernel kernel{ itk::PointBasedDRREnums::ReconstructionKernel::Box };
   itk::PointBasedDRREnums::Splat                splat{ itk::PointBasedDRREnums::Splat::Nearest };

@@ -30,6 +30,7 @@
 // order of the decisions below. With PBDRR_FUZZ_PRINT=1 in the environment every decoded case is printed.
 
 #include "itkAffineTransform.h"
+#include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkEuler3DTransform.h"
 #include "itkExactDRRImageFilter.h"
@@ -612,8 +613,13 @@ DecodeSettings(Reader & reader)
   const auto & samplers = itk::DRRSamplerFactory::GetEntries();
   s.Sampler = reader.Choice("sampler", static_cast<unsigned>(samplers.size()));
   reader.Note("(" + samplers[s.Sampler].Name + ")");
-  s.Kernel = reader.Flag("tent") ? Enums::ReconstructionKernel::Tent : Enums::ReconstructionKernel::Box;
-  s.Splat = reader.Flag("bilinear") ? Enums::Splat::Bilinear : Enums::Splat::Nearest;
+  // Every registered kernel and splat, by its index in the registry (with two of each, the same byte as a flag).
+  const auto kernels = itk::DRRPolicies::Kernels::GetEntries();
+  s.Kernel = kernels[reader.Choice("kernel", static_cast<unsigned>(kernels.size()))].Id;
+  reader.Note("(" + itk::DRRPolicies::Kernels::GetName(s.Kernel) + ")");
+  const auto splats = itk::DRRPolicies::Splats::GetEntries();
+  s.Splat = splats[reader.Choice("splat", static_cast<unsigned>(splats.size()))].Id;
+  reader.Note("(" + itk::DRRPolicies::Splats::GetName(s.Splat) + ")");
   s.Weighting = reader.Flag("paperCount") ? Enums::PointWeighting::PaperCount : Enums::PointWeighting::Unbiased;
   const unsigned strata = reader.Choice("strataKind", 4);
   s.Strata = strata == 0 ? 0 : strata == 1 ? 2 : strata == 2 ? 256 : 2 + reader.Choice("strata-2", 255);
