@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrOptions.h"
+#include "itkDRRNumberParser.h"
 #include "itkDRRSamplerFactory.h"
 
 #include <cerrno>
@@ -29,11 +30,8 @@ namespace pbdrr
 double
 ParseNumber(const std::string & text, const std::string & flag)
 {
-  const char * begin = text.c_str();
-  char *       end = nullptr;
-  errno = 0;
-  const double value = std::strtod(begin, &end);
-  if (text.empty() || end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(value))
+  double value = 0.0;
+  if (!itk::DRRNumberParser::ParseFiniteNumber(text, value))
   {
     throw UsageError(flag + " expects a finite number, got '" + text + "'");
   }
