@@ -18,6 +18,7 @@
 #ifndef itkDRRProjectionGeometry_h
 #define itkDRRProjectionGeometry_h
 
+#include "itkImageBase.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "itkPoint.h"
@@ -169,6 +170,16 @@ public:
   SetExplicitParallelGeometry(const PointType &  detectorCenter,
                               const VectorType & columnDirection,
                               const VectorType & rowDirection);
+
+  /** Sets the isocenter to ComputeImageCenter(image), mm. Throws if image is null. */
+  void
+  SetIsocenterToImageCenter(const ImageBase<3> * image);
+
+  /** The centre of an image's largest possible region, mm: the centre of the bounding box of its voxel centres,
+   * the physical point of continuous index (index + (size - 1) / 2) per axis, honouring origin, spacing and direction.
+   * Throws an ExceptionObject if image is null. */
+  static PointType
+  ComputeImageCenter(const ImageBase<3> * image);
 
   /** Reads a geometry file: one `key value...` per line, `#` starts a comment. Keys given override the current
    * values; unknown keys, missing or non-numeric values throw an ExceptionObject naming the line. Calls

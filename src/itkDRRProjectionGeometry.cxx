@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkDRRProjectionGeometry.h"
 #include "itkDRRProjectionGeometryFileIO.h"
+#include "itkContinuousIndex.h"
 #include "itkMath.h"
 
 #include <cmath>
@@ -300,6 +301,30 @@ void
 DRRProjectionGeometry::ReadGeometry(std::istream & stream, const std::string & sourceName)
 {
   DRRProjectionGeometryFileIO::ReadFromStream(stream, this, sourceName);
+}
+
+DRRProjectionGeometry::PointType
+DRRProjectionGeometry::ComputeImageCenter(const ImageBase<3> * image)
+{
+  if (image == nullptr)
+  {
+    ThrowGeometryError("no image given to compute the centre of");
+  }
+  const auto                 region = image->GetLargestPossibleRegion();
+  ContinuousIndex<double, 3> centerIndex;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    centerIndex[a] = static_cast<double>(region.GetIndex()[a]) + 0.5 * (static_cast<double>(region.GetSize()[a]) - 1.0);
+  }
+  PointType center;
+  image->TransformContinuousIndexToPhysicalPoint(centerIndex, center);
+  return center;
+}
+
+void
+DRRProjectionGeometry::SetIsocenterToImageCenter(const ImageBase<3> * image)
+{
+  this->SetIsocenter(ComputeImageCenter(image));
 }
 
 void
