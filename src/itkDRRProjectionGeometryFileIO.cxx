@@ -20,6 +20,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -181,7 +183,16 @@ ApplyKey(GeometryType *                   geometry,
   }
 }
 
-/** The shortest decimal form that std::strtod() reads back to the same double; throws for a non-finite value. */
+/** True if the reader reads text back as value, bit for bit. */
+bool
+ReadsBackAs(const std::string & text, double value)
+{
+  double readBack = 0.0;
+  return DRRNumberParser::ParseFiniteNumber(text, readBack) && std::memcmp(&readBack, &value, sizeof(double)) == 0;
+}
+
+/** The shortest decimal form that reads back to the same double, or else (a subnormal number, whose decimal form
+ * strtod() reads with ERANGE, which the reader refuses) the exact hexadecimal one; throws for a non-finite value. */
 std::string
 FormatNumber(double value, const char * key)
 {
@@ -189,9 +200,19 @@ FormatNumber(double value, const char * key)
   {
     ThrowWriteError(std::string("the value of key '") + key + "' is not finite: the reader would refuse it");
   }
-  char       buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof(buffer), value);
-  return std::string(buffer, result.ptr);
+  char        buffer[64];
+  const auto  result = std::to_chars(buffer, buffer + sizeof(buffer), value);
+  std::string text(buffer, result.ptr);
+  if (!ReadsBackAs(text, value))
+  {
+    std::snprintf(buffer, sizeof(buffer), "%a", value);
+    text = buffer;
+    if (!ReadsBackAs(text, value))
+    {
+      ThrowWriteError(std::string("the value ") + text + " of key '" + key + "' does not read back");
+    }
+  }
+  return text;
 }
 
 template <typename TVector>

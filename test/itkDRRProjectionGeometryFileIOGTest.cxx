@@ -228,6 +228,22 @@ TEST(DRRProjectionGeometryFileIO, RoundTripDefaultAndExplicitGeometries)
   ExpectRoundTrip(parallel, "explicit parallel");
 }
 
+TEST(DRRProjectionGeometryFileIO, RoundTripSubnormalAndExtremeNumbers)
+{
+  // The decimal form of a subnormal number reads with ERANGE, which the reader refuses: it is written in hexadecimal
+  // (found by the geometry fuzzer: a parallel geometry's SAD of 0x1p-1074 verifies).
+  auto geometry = GeometryType::New();
+  geometry->SetSourceToIsocenterDistance(std::numeric_limits<double>::denorm_min());
+  geometry->SetSourceToDetectorDistance(-std::numeric_limits<double>::denorm_min() * 12345.0);
+  geometry->SetGantryAngleInDegrees(-1e300); // a finite angle in radians, so a finite normal
+  geometry->SetIsocenter(Pt(std::numeric_limits<double>::min(), -std::numeric_limits<double>::lowest(), 1e-310));
+  geometry->SetDetectorOffset(Vec2(std::numeric_limits<double>::min() / 2.0, -0.0));
+  const std::string text = ExpectRoundTrip(geometry, "subnormal and extreme numbers");
+  EXPECT_TRUE(Contains(text, "\nsad 0x0.0000000000001p-1022\n")) << text;
+  EXPECT_TRUE(Contains(text, "\ngantry -1e+300\n")) << text;
+  EXPECT_TRUE(Contains(text, " 1.7976931348623157e+308 ")) << text;
+}
+
 TEST(DRRProjectionGeometryFileIO, RoundTripRandomGeometries)
 {
   // Full-mantissa values of every magnitude the reader accepts, normals of every direction (a third of the normals
