@@ -49,12 +49,13 @@ namespace itk
  * an unknown key, a wrong number of values or a value that is not a finite number (DRRNumberParser) throws an
  * ExceptionObject naming the line (`file:line: `), after the lines before it have been applied.
  *
- * Writing writes every key, numbers in the shortest form that reads back to the same double, so that reading the
- * file into any geometry gives the written one bit for bit: the gantry angle is written, then `nrm` if the normal in
- * force is not the gantry angle's (SetNormal() keeps a vector that is already a unit vector). One exception: the
- * explicit forms given column and row directions orthogonal only to within their tolerance (1e-6) hold a normal
- * n = v x u that is not of unit length to 4 eps, and it reads back normalized. A geometry the reader would refuse (a
- * non-finite value, a detector size outside [1, 1e6]) is not written: Write() throws.
+ * Writing writes every key, numbers in the shortest decimal form that reads back to the same double (hexadecimal,
+ * `%a`, for a subnormal number, whose decimal form the reader refuses), so that reading the file into any geometry
+ * gives the written one bit for bit: the gantry angle is written, then `nrm` if the normal in force is not the gantry
+ * angle's (SetNormal() keeps a vector that is already a unit vector). One exception: the explicit forms given column
+ * and row directions orthogonal only to within their tolerance (1e-6) hold a normal n = v x u that is not of unit
+ * length to 4 eps, and it reads back normalized. A geometry the reader would refuse (a non-finite value, a detector
+ * size outside [1, 1e6]) is not written: Write() throws.
  *
  * Other formats (projection matrices, RTK's XML) are meant to be sibling IO classes, as ITK has an ImageIO or a
  * TransformIO per file format. DRRProjectionGeometry::ReadGeometryFile() and ReadGeometry() call this class.
