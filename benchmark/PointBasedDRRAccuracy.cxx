@@ -167,28 +167,20 @@ main(int argc, char * argv[])
                                                  : std::vector<KernelEnum>{ KernelEnum::Box, KernelEnum::Tent };
   try
   {
-    const double                    start = Now();
-    const auto                      volume = pbdrr::LoadVolume(argv[1], "").Image;
-    const double                    loadSeconds = Now() - start;
-    const auto                      region = volume->GetLargestPossibleRegion();
-    itk::ContinuousIndex<double, 3> centreIndex;
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      centreIndex[a] = region.GetIndex()[a] + (region.GetSize()[a] - 1) / 2.0;
-    }
-    itk::Point<double, 3> centre;
-    volume->TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
+    const double start = Now();
+    const auto   volume = pbdrr::LoadVolume(argv[1], "").Image;
+    const double loadSeconds = Now() - start;
 
     auto geometry = itk::DRRProjectionGeometry::New();
     geometry->SetGantryAngleInDegrees(gantry);
-    geometry->SetIsocenter(centre);
+    geometry->SetIsocenterToImageCenter(volume);
     geometry->SetDetectorSize({ { cols, cols } });
     geometry->SetDetectorSpacing(itk::Vector<double, 2>(spacing));
 
-    std::cout << "Volume " << region.GetSize() << " spacing " << volume->GetSpacing() << " loaded in " << loadSeconds
-              << " s; detector " << cols << " x " << cols << " at " << spacing << " mm, gantry " << gantry
-              << " deg, SAD 1000 mm, SID 1500 mm; threads " << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads()
-              << "; median of " << runs << " runs\n\n";
+    std::cout << "Volume " << volume->GetLargestPossibleRegion().GetSize() << " spacing " << volume->GetSpacing()
+              << " loaded in " << loadSeconds << " s; detector " << cols << " x " << cols << " at " << spacing
+              << " mm, gantry " << gantry << " deg, SAD 1000 mm, SID 1500 mm; threads "
+              << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads() << "; median of " << runs << " runs\n\n";
 
     std::cout << "| method | kernel | samples or rays/pixel | wall time (s) | NRMSE (range) | RMSE / mean | max error "
                  "(range) | sum ratio |\n|---|---|---|---|---|---|---|---|\n";

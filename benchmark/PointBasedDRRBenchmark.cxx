@@ -96,7 +96,7 @@ Benchmark::MakeGeometry(const VolumeType * volume, unsigned cols, unsigned rows,
   geometry->SetGantryAngleInDegrees(m_Options.Gantry);
   geometry->SetSourceToIsocenterDistance(m_Options.Sad);
   geometry->SetSourceToDetectorDistance(m_Options.Sid);
-  geometry->SetIsocenter(VolumeCentre(volume));
+  geometry->SetIsocenterToImageCenter(volume);
   geometry->SetDetectorSize({ { cols, rows } });
   geometry->SetDetectorSpacing(itk::Vector<double, 2>(spacing));
   geometry->VerifyGeometry();

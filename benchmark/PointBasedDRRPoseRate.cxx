@@ -147,18 +147,6 @@ WithIdentityDirection(VolumeType * volume)
   return orient->GetOutput();
 }
 
-itk::Point<double, 3>
-VolumeCentre(const itk::ImageBase<3> * volume)
-{
-  const auto                      region = volume->GetLargestPossibleRegion();
-  itk::ContinuousIndex<double, 3> centreIndex;
-  for (unsigned int a = 0; a < 3; ++a)
-    centreIndex[a] = region.GetIndex()[a] + (region.GetSize()[a] - 1) / 2.0;
-  itk::Point<double, 3> centre;
-  volume->TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
-  return centre;
-}
-
 /** Rigid poses about the volume centre: rotations uniform in +-5 degrees, translations in +-10 mm per axis (fixed
  * seed); pose 0 is the identity. */
 std::vector<TransformType::ParametersType>
@@ -200,7 +188,7 @@ public:
   Run()
   {
     m_Volume = WithIdentityDirection(pbdrr::LoadVolume(m_Options.Input, "").Image);
-    m_Centre = VolumeCentre(m_Volume);
+    m_Centre = itk::DRRProjectionGeometry::ComputeImageCenter(m_Volume);
     m_Poses = MakePoses(m_Options.Poses);
     for (unsigned size : m_Options.Sizes)
     {

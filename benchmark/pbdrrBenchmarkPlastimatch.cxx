@@ -236,7 +236,7 @@ Benchmark::PlastimatchRows(const Row & base)
   Write(m_Mu.GetPointer(), muPath);
   if (m_Options.Threads)
     setenv("OMP_NUM_THREADS", std::to_string(m_Options.Threads).c_str(), 1);
-  const auto iso = VolumeCentre(m_Mu);
+  const auto iso = itk::DRRProjectionGeometry::ComputeImageCenter(m_Mu);
   for (const std::string algorithm : { "exact", "uniform" })
     PlastimatchRow(algorithm, iso, muPath, base);
 }

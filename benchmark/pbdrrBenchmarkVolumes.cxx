@@ -27,18 +27,6 @@ namespace pbdrr
 {
 namespace bench
 {
-itk::Point<double, 3>
-VolumeCentre(const itk::ImageBase<3> * volume)
-{
-  const auto                      region = volume->GetLargestPossibleRegion();
-  itk::ContinuousIndex<double, 3> centreIndex;
-  for (unsigned int a = 0; a < 3; ++a)
-    centreIndex[a] = region.GetIndex()[a] + (region.GetSize()[a] - 1) / 2.0;
-  itk::Point<double, 3> centre;
-  volume->TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
-  return centre;
-}
-
 MuImageType::Pointer
 WithIdentityDirection(const MuImageType * image)
 {

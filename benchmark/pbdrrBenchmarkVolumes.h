@@ -32,10 +32,6 @@ namespace pbdrr
 {
 namespace bench
 {
-/** The physical centre of the volume's largest possible region. */
-itk::Point<double, 3>
-VolumeCentre(const itk::ImageBase<3> * volume);
-
 /** The same voxels at the same physical places with an identity direction matrix, for programs that ignore the
  * direction (ITK's ray caster; plastimatch is given the same). Only for axis-aligned directions (a signed
  * permutation): returns null otherwise. */

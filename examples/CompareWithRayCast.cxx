@@ -240,18 +240,6 @@ PadWithZeros(const MuImageType * mu)
   return padded;
 }
 
-itk::Point<double, 3>
-Centre(const MuImageType * image)
-{
-  const auto                      region = image->GetLargestPossibleRegion();
-  itk::ContinuousIndex<double, 3> index;
-  for (unsigned axis = 0; axis < 3; ++axis)
-    index[axis] = region.GetIndex()[axis] + 0.5 * (region.GetSize()[axis] - 1.0);
-  itk::Point<double, 3> centre;
-  image->TransformContinuousIndexToPhysicalPoint(index, centre);
-  return centre;
-}
-
 template <typename TRender>
 double
 WallSeconds(TRender && render)
@@ -436,7 +424,7 @@ main(int argc, char * argv[])
     geometry->SetGantryAngleInDegrees(options.GantryInDegrees);
     geometry->SetSourceToIsocenterDistance(1000.0); // mm
     geometry->SetSourceToDetectorDistance(1500.0);  // mm
-    geometry->SetIsocenter(Centre(mu));
+    geometry->SetIsocenterToImageCenter(mu);
     geometry->SetDetectorSize({ { options.DetectorPixels, options.DetectorPixels } });
     const double largestMagnification = 1500.0 / (1000.0 - 0.5 * std::sqrt(diagonal)); // at the volume's nearest point
     const double pixelSpacing = options.PixelSpacingInMillimeters > 0.0

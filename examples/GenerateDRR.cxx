@@ -241,18 +241,6 @@ MakeCubePhantom()
   return ct;
 }
 
-itk::Point<double, 3>
-VolumeCentre(const CTImageType * ct)
-{
-  const auto                      region = ct->GetLargestPossibleRegion();
-  itk::ContinuousIndex<double, 3> index;
-  for (unsigned axis = 0; axis < 3; ++axis)
-    index[axis] = region.GetIndex()[axis] + 0.5 * (region.GetSize()[axis] - 1.0);
-  itk::Point<double, 3> centre;
-  ct->TransformContinuousIndexToPhysicalPoint(index, centre);
-  return centre;
-}
-
 /** What both DRR filters share: the input, the geometry, the transform and the HU-to-mu transfer function. */
 template <typename TFilter>
 void
@@ -277,7 +265,7 @@ main(int argc, char * argv[])
   {
     const Options options = ParseOptions(argc, argv);
     const auto    ct = options.Input.empty() ? MakeCubePhantom() : itk::ReadImage<CTImageType>(options.Input);
-    const auto    centre = VolumeCentre(ct);
+    const auto    centre = itk::DRRProjectionGeometry::ComputeImageCenter(ct);
 
     // ITK's transform: rotation about the volume centre + -cor, then translation; room -> volume frame.
     constexpr double degreesToRadians = itk::Math::pi / 180.0;

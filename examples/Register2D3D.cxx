@@ -269,18 +269,6 @@ ToMu(const CTType * ct)
   return mu;
 }
 
-itk::Point<double, 3>
-Centre(const itk::ImageBase<3> * image)
-{
-  itk::ContinuousIndex<double, 3> index;
-  for (unsigned a = 0; a < 3; ++a)
-    index[a] =
-      image->GetLargestPossibleRegion().GetIndex()[a] + (image->GetLargestPossibleRegion().GetSize()[a] - 1) / 2.0;
-  itk::Point<double, 3> centre;
-  image->TransformContinuousIndexToPhysicalPoint(index, centre);
-  return centre;
-}
-
 /** Synthetic X-rays: AP (gantry 90) and lateral (gantry 0) exact projections of the CT at the true pose. */
 std::vector<View>
 RenderTargets(const MuImageType * mu, const Options & options)
@@ -302,7 +290,7 @@ RenderTargets(const MuImageType * mu, const Options & options)
     geometry->SetGantryAngleInDegrees(v == 0 ? 90.0 : 0.0);
     geometry->SetSourceToIsocenterDistance(1000.0);
     geometry->SetSourceToDetectorDistance(1500.0);
-    geometry->SetIsocenter(Centre(mu));
+    geometry->SetIsocenterToImageCenter(mu);
     geometry->SetDetectorSize({ { options.Size, options.Size } });
     geometry->SetDetectorSpacing(itk::Vector<double, 2>(pixel));
     exact->Update();
@@ -439,11 +427,12 @@ template <typename TInterpolator>
 Result
 Register(const MuImageType * mu, const std::vector<View> & views, const Options & options)
 {
+  const auto centre = itk::DRRProjectionGeometry::ComputeImageCenter(mu);
   const auto truth = TransformType::New();
-  truth->SetCenter(Centre(mu));
-  const auto start = StartPose(options, Centre(mu));
+  truth->SetCenter(centre);
+  const auto start = StartPose(options, centre);
   auto       transform = TransformType::New();
-  transform->SetCenter(Centre(mu));
+  transform->SetCenter(centre);
   transform->SetParameters(start->GetParameters());
 
   auto                                         cost = MultiViewCost::New();

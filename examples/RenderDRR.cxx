@@ -32,15 +32,12 @@ main(int argc, char * argv[])
   try
   {
     using CTType = itk::Image<short, 3>;
-    auto                  ct = itk::ReadImage<CTType>(argv[1]);
-    itk::Point<double, 3> first, last; // isocenter at the volume centre
-    ct->TransformIndexToPhysicalPoint(ct->GetLargestPossibleRegion().GetIndex(), first);
-    ct->TransformIndexToPhysicalPoint(ct->GetLargestPossibleRegion().GetUpperIndex(), last);
+    auto ct = itk::ReadImage<CTType>(argv[1]);
 
     auto drr = itk::PointBasedDRRImageFilter<CTType, itk::Image<float, 2>>::New();
     drr->SetInput(ct);
     drr->GetGeometry()->SetGantryAngleInDegrees(90.0); // AP: source anterior
-    drr->GetGeometry()->SetIsocenter(first + (last - first) * 0.5);
+    drr->GetGeometry()->SetIsocenterToImageCenter(ct); // the centre of the volume
     drr->GetGeometry()->SetDetectorSize({ { 256, 256 } });
     drr->GetGeometry()->SetDetectorSpacing(itk::Vector<double, 2>(1.5)); // mm
     drr->SetNumberOfSamples(20000000);

@@ -36,21 +36,6 @@ def make_phantom():
     return ct
 
 
-def volume_centre(ct):
-    """The physical centre of the voxel grid (mm), the direction matrix honoured."""
-    region = ct.GetLargestPossibleRegion()
-    first = region.GetIndex()
-    last = itk.Index[3]()
-    for axis in range(3):
-        last[axis] = first[axis] + region.GetSize()[axis] - 1
-    first_point = ct.TransformIndexToPhysicalPoint(first)
-    last_point = ct.TransformIndexToPhysicalPoint(last)
-    centre = itk.Point[itk.D, 3]()
-    for axis in range(3):
-        centre[axis] = 0.5 * (first_point[axis] + last_point[axis])
-    return centre
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("input", nargs="?", help="CT volume in HU (any format ITK reads)")
@@ -73,7 +58,7 @@ def main():
     geometry.SetGantryAngleInDegrees(arguments.gantry)
     geometry.SetSourceToIsocenterDistance(1000.0)  # mm
     geometry.SetSourceToDetectorDistance(1500.0)  # mm
-    geometry.SetIsocenter(volume_centre(ct))
+    geometry.SetIsocenterToImageCenter(ct)  # the centre of the voxel grid, the direction matrix honoured
     detector_size = itk.Size[2]()
     detector_size[0] = 256  # columns
     detector_size[1] = 256  # rows

@@ -18,6 +18,7 @@
 #ifndef itkDRRProjectionGeometry_h
 #define itkDRRProjectionGeometry_h
 
+#include "itkImageBase.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "itkPoint.h"
@@ -56,9 +57,10 @@ namespace itk
  *
  * The explicit form (source, detector centre, column and row unit vectors) is accepted too and converted to
  * the same internal parameters; ReadGeometryFile() reads the `key value...` file format of docs/design.md section 5
- * (`projection`, `sad`, `sid`, `gantry`, `nrm`, `vup`, `isocenter`, `cols`, `rows`, `spacing`, `offset`).
+ * (`projection`, `sad`, `sid`, `gantry`, `nrm`, `vup`, `isocenter`, `cols`, `rows`, `spacing`, `offset`), which
+ * DRRProjectionGeometryFileIO reads and writes.
  *
- * \sa PointBasedDRRImageFilter, ExactDRRImageFilter, DRRPointProjection
+ * \sa DRRProjectionGeometryFileIO, PointBasedDRRImageFilter, ExactDRRImageFilter, DRRPointProjection
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRProjectionGeometry : public Object
@@ -120,7 +122,8 @@ public:
    * not change it: GetNormal() is the direction in force. */
   itkGetConstMacro(GantryAngleInDegrees, double);
 
-  /** Unit vector from the isocenter towards the source (normalized on Set). Overrides the gantry angle. */
+  /** Unit vector from the isocenter towards the source (normalized on Set; a vector already of unit length to within
+   * 4 eps is kept bit for bit). Overrides the gantry angle. */
   void
   SetNormal(const VectorType & normal);
   /** Unit vector from the isocenter towards the source. Default (1, 0, 0) (gantry 0). */
@@ -168,18 +171,30 @@ public:
                               const VectorType & columnDirection,
                               const VectorType & rowDirection);
 
+  /** Sets the isocenter to ComputeImageCenter(image), mm. Throws if image is null. */
+  void
+  SetIsocenterToImageCenter(const ImageBase<3> * image);
+
+  /** The centre of an image's largest possible region, mm: the centre of the bounding box of its voxel centres,
+   * the physical point of continuous index (index + (size - 1) / 2) per axis, honouring origin, spacing and direction.
+   * Throws an ExceptionObject if image is null. */
+  static PointType
+  ComputeImageCenter(const ImageBase<3> * image);
+
   /** Reads a geometry file: one `key value...` per line, `#` starts a comment. Keys given override the current
-   * values; unknown keys, missing or non-numeric values throw an ExceptionObject naming the line. */
+   * values; unknown keys, missing or non-numeric values throw an ExceptionObject naming the line. Calls
+   * DRRProjectionGeometryFileIO::Read(), which also writes the format. */
   void
   ReadGeometryFile(const std::string & fileName);
 
   /** Reads the geometry-file format from a stream, as ReadGeometryFile() does for a file (which calls this): each
    * line is given to ParseGeometryLine(), errors name `sourceName:line: ` (or `line N: ` without a source name).
-   * Lines before an erroneous one are applied. */
+   * Lines before an erroneous one are applied. Calls DRRProjectionGeometryFileIO::ReadFromStream(). */
   void
   ReadGeometry(std::istream & stream, const std::string & sourceName = "");
 
-  /** Parses one geometry-file line (without the trailing newline). Throws on error. */
+  /** Parses one geometry-file line (without the trailing newline). Throws on error. Calls
+   * DRRProjectionGeometryFileIO::ParseLine(). */
   void
   ParseGeometryLine(const std::string & line, const std::string & where = "");
 
@@ -220,9 +235,6 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  void
-  ApplyGeometryKey(const std::string & key, const std::vector<std::string> & values, const std::string & where);
-
   ProjectionEnum     m_Projection{ ProjectionEnum::Perspective };
   double             m_SourceToIsocenterDistance{ 1000.0 };
   double             m_SourceToDetectorDistance{ 1500.0 };

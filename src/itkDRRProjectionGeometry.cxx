@@ -16,15 +16,12 @@
  *
  *=========================================================================*/
 #include "itkDRRProjectionGeometry.h"
+#include "itkDRRProjectionGeometryFileIO.h"
+#include "itkContinuousIndex.h"
 #include "itkMath.h"
 
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-#include <vector>
+#include <limits>
 
 namespace itk
 {
@@ -79,31 +76,6 @@ DetectorFrame(const DRRProjectionGeometry::VectorType & columnDirection,
   n = Cross(v, u);
 }
 
-/** Strict number parsing: the whole token must be a finite number. */
-double
-ParseNumber(const std::string & token, const std::string & key, const std::string & where)
-{
-  const char * begin = token.c_str();
-  char *       end = nullptr;
-  errno = 0;
-  const double value = std::strtod(begin, &end);
-  if (end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(value))
-  {
-    ThrowGeometryError(where + "value '" + token + "' of key '" + key + "' is not a finite number");
-  }
-  return value;
-}
-
-SizeValueType
-ParseCount(const std::string & token, const std::string & key, const std::string & where)
-{
-  const double value = ParseNumber(token, key, where);
-  if (value < 1.0 || value != std::floor(value) || value > 1e6)
-  {
-    ThrowGeometryError(where + "value '" + token + "' of key '" + key + "' must be a whole number in [1, 1e6]");
-  }
-  return static_cast<SizeValueType>(value);
-}
 } // namespace
 
 DRRProjectionGeometry::DRRProjectionGeometry()
@@ -141,7 +113,11 @@ DRRProjectionGeometry::SetNormal(const VectorType & normal)
   {
     ThrowGeometryError("the normal (nrm) must be a finite, non-zero vector");
   }
-  m_Normal = normal / length;
+  // A unit vector to rounding (as normal / length is: within 1.5 eps) is kept as given, so that setting the normal in
+  // force again (a geometry file written by DRRProjectionGeometryFileIO) changes no bit: dividing a third of them
+  // by their computed length again would move them by an ulp.
+  constexpr double unitTolerance = 4.0 * std::numeric_limits<double>::epsilon();
+  m_Normal = std::abs(length - 1.0) <= unitTolerance ? normal : normal / length;
   this->Modified();
 }
 
@@ -308,162 +284,47 @@ DRRProjectionGeometry::VerifyGeometry() const
 }
 
 void
-DRRProjectionGeometry::ParseGeometryLine(const std::string & rawLine, const std::string & where)
+DRRProjectionGeometry::ParseGeometryLine(const std::string & line, const std::string & where)
 {
-  const std::string        line = rawLine.substr(0, rawLine.find('#'));
-  std::istringstream       stream(line);
-  std::string              key;
-  std::vector<std::string> values;
-  if (!(stream >> key))
-  {
-    return; // blank or comment-only line
-  }
-  for (std::string token; stream >> token;)
-  {
-    values.push_back(token);
-  }
-  try
-  {
-    this->ApplyGeometryKey(key, values, where);
-  }
-  catch (const ExceptionObject & e)
-  {
-    const std::string message = e.GetDescription();
-    if (where.empty() || message.find(where) != std::string::npos)
-    {
-      throw;
-    }
-    ThrowGeometryError(where + "key '" + key + "': " + message);
-  }
-}
-
-void
-DRRProjectionGeometry::ApplyGeometryKey(const std::string &              key,
-                                        const std::vector<std::string> & values,
-                                        const std::string &              where)
-{
-  auto expect = [&](size_t count) {
-    if (values.size() != count)
-    {
-      ThrowGeometryError(where + "key '" + key + "' takes " + std::to_string(count) + " value(s), got " +
-                         std::to_string(values.size()));
-    }
-  };
-  auto vector3 = [&]() {
-    expect(3);
-    VectorType v;
-    for (unsigned int d = 0; d < 3; ++d)
-    {
-      v[d] = ParseNumber(values[d], key, where);
-    }
-    return v;
-  };
-  auto vector2 = [&]() {
-    expect(2);
-    DetectorVectorType v;
-    for (unsigned int d = 0; d < 2; ++d)
-    {
-      v[d] = ParseNumber(values[d], key, where);
-    }
-    return v;
-  };
-
-  if (key == "projection")
-  {
-    expect(1);
-    if (values[0] == "perspective")
-    {
-      this->SetProjection(ProjectionEnum::Perspective);
-    }
-    else if (values[0] == "parallel")
-    {
-      this->SetProjection(ProjectionEnum::Parallel);
-    }
-    else
-    {
-      ThrowGeometryError(where + "projection must be 'perspective' or 'parallel', got '" + values[0] + "'");
-    }
-  }
-  else if (key == "sad")
-  {
-    expect(1);
-    this->SetSourceToIsocenterDistance(ParseNumber(values[0], key, where));
-  }
-  else if (key == "sid")
-  {
-    expect(1);
-    this->SetSourceToDetectorDistance(ParseNumber(values[0], key, where));
-  }
-  else if (key == "gantry")
-  {
-    expect(1);
-    this->SetGantryAngleInDegrees(ParseNumber(values[0], key, where));
-  }
-  else if (key == "nrm")
-  {
-    this->SetNormal(vector3());
-  }
-  else if (key == "vup")
-  {
-    this->SetViewUp(vector3());
-  }
-  else if (key == "isocenter")
-  {
-    const VectorType v = vector3();
-    PointType        p;
-    p[0] = v[0];
-    p[1] = v[1];
-    p[2] = v[2];
-    this->SetIsocenter(p);
-  }
-  else if (key == "cols" || key == "rows")
-  {
-    expect(1);
-    DetectorSizeType size = m_DetectorSize;
-    size[key == "cols" ? 0 : 1] = ParseCount(values[0], key, where);
-    this->SetDetectorSize(size);
-  }
-  else if (key == "spacing")
-  {
-    this->SetDetectorSpacing(vector2());
-  }
-  else if (key == "offset")
-  {
-    this->SetDetectorOffset(vector2());
-  }
-  else
-  {
-    ThrowGeometryError(where + "unknown key '" + key +
-                       "' (known: projection, sad, sid, gantry, nrm, vup, isocenter, cols, rows, spacing, offset)");
-  }
+  DRRProjectionGeometryFileIO::ParseLine(line, this, where);
 }
 
 void
 DRRProjectionGeometry::ReadGeometryFile(const std::string & fileName)
 {
-  // A directory opens as a stream that reads nothing, which would leave the defaults in place: refuse it.
-  std::error_code error;
-  if (std::filesystem::is_directory(fileName, error))
-  {
-    ThrowGeometryError("cannot read geometry file '" + fileName + "': it is a directory");
-  }
-  std::ifstream file(fileName);
-  if (!file)
-  {
-    ThrowGeometryError("cannot open geometry file '" + fileName + "'");
-  }
-  this->ReadGeometry(file, fileName);
+  const auto io = DRRProjectionGeometryFileIO::New();
+  io->SetFileName(fileName);
+  io->Read(this);
 }
 
 void
 DRRProjectionGeometry::ReadGeometry(std::istream & stream, const std::string & sourceName)
 {
-  const std::string prefix = sourceName.empty() ? std::string("line ") : sourceName + ":";
-  std::string       line;
-  for (unsigned int lineNumber = 1; std::getline(stream, line); ++lineNumber)
+  DRRProjectionGeometryFileIO::ReadFromStream(stream, this, sourceName);
+}
+
+DRRProjectionGeometry::PointType
+DRRProjectionGeometry::ComputeImageCenter(const ImageBase<3> * image)
+{
+  if (image == nullptr)
   {
-    this->ParseGeometryLine(line, prefix + std::to_string(lineNumber) + ": ");
+    ThrowGeometryError("no image given to compute the centre of");
   }
+  const auto                 region = image->GetLargestPossibleRegion();
+  ContinuousIndex<double, 3> centerIndex;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    centerIndex[a] = static_cast<double>(region.GetIndex()[a]) + 0.5 * (static_cast<double>(region.GetSize()[a]) - 1.0);
+  }
+  PointType center;
+  image->TransformContinuousIndexToPhysicalPoint(centerIndex, center);
+  return center;
+}
+
+void
+DRRProjectionGeometry::SetIsocenterToImageCenter(const ImageBase<3> * image)
+{
+  this->SetIsocenter(ComputeImageCenter(image));
 }
 
 void

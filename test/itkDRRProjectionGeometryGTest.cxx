@@ -952,3 +952,55 @@ TEST(DRRProjectionGeometryModifiedTime, SettersModify)
   geometry->ParseGeometryLine("sad 777");
   expectModified("ParseGeometryLine");
 }
+
+// ---------------------------------------------------------------------------------------------------------------------
+// 8. The centre of a volume (ComputeImageCenter, SetIsocenterToImageCenter).
+
+TEST(DRRProjectionGeometryImageCenter, HonoursIndexSpacingOriginAndDirection)
+{
+  // Index (-3, 5, 10), size (4, 7, 3): centre index (-3 + 1.5, 5 + 3, 10 + 1) = (-1.5, 8, 11). Spacing (0.5, 1.25, 3):
+  // (-0.75, 10, 33). Direction: 90 degrees about z, columns (0, 1, 0), (-1, 0, 0), (0, 0, 1): (-10, -0.75, 33).
+  // Origin (10, -20, 30): (0, -20.75, 63).
+  using ImageType = itk::Image<short, 3>;
+  auto                       image = ImageType::New();
+  ImageType::RegionType      region;
+  const ImageType::IndexType index = { { -3, 5, 10 } };
+  const ImageType::SizeType  size = { { 4, 7, 3 } };
+  region.SetIndex(index);
+  region.SetSize(size);
+  image->SetRegions(region);
+  ImageType::SpacingType spacing;
+  spacing[0] = 0.5;
+  spacing[1] = 1.25;
+  spacing[2] = 3.0;
+  image->SetSpacing(spacing);
+  image->SetOrigin(Pt(10.0, -20.0, 30.0));
+  ImageType::DirectionType direction;
+  direction.Fill(0.0);
+  direction[0][1] = -1.0;
+  direction[1][0] = 1.0;
+  direction[2][2] = 1.0;
+  image->SetDirection(direction);
+
+  const PointType expected = Pt(0.0, -20.75, 63.0);
+  EXPECT_EQ(GeometryType::ComputeImageCenter(image), expected);
+
+  // No buffer is needed; the largest possible region counts, not the buffered one.
+  ImageType::RegionType buffered = region;
+  buffered.SetSize({ { 1, 1, 1 } });
+  image->SetBufferedRegion(buffered);
+  auto       geometry = GeometryType::New();
+  const auto before = geometry->GetMTime();
+  geometry->SetIsocenterToImageCenter(image);
+  EXPECT_EQ(geometry->GetIsocenter(), expected);
+  EXPECT_GT(geometry->GetMTime(), before);
+
+  // One voxel: its centre, the origin (index 0).
+  auto single = ImageType::New();
+  single->SetRegions(ImageType::SizeType{ { 1, 1, 1 } });
+  single->SetOrigin(Pt(1.5, -2.0, 7.0));
+  EXPECT_EQ(GeometryType::ComputeImageCenter(single), Pt(1.5, -2.0, 7.0));
+
+  EXPECT_THROW(GeometryType::ComputeImageCenter(nullptr), itk::ExceptionObject);
+  EXPECT_THROW(geometry->SetIsocenterToImageCenter(nullptr), itk::ExceptionObject);
+}

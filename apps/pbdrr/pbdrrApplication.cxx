@@ -125,15 +125,7 @@ MakeGeometry(const Options & options, const VolumeType * volume)
   geometry->SetDetectorSize({ { 512, 512 } });
   geometry->SetDetectorSpacing(itk::Vector<double, 2>(1.2));
   // Default isocenter: the centre of the volume's bounding box (voxel centres).
-  const auto                      region = volume->GetLargestPossibleRegion();
-  itk::ContinuousIndex<double, 3> centreIndex;
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    centreIndex[a] = region.GetIndex()[a] + (region.GetSize()[a] - 1.0) / 2.0;
-  }
-  itk::Point<double, 3> centre;
-  volume->TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
-  geometry->SetIsocenter(centre);
+  geometry->SetIsocenterToImageCenter(volume);
   if (!options.geometryFile.empty())
   {
     geometry->ReadGeometryFile(options.geometryFile);

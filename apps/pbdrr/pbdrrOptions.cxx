@@ -16,13 +16,12 @@
  *
  *=========================================================================*/
 #include "pbdrrOptions.h"
+#include "itkDRRNumberParser.h"
 #include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <functional>
 #include <sstream>
 #include <map>
@@ -41,11 +40,8 @@ ExactReferenceName(itk::PointBasedDRREnums::ReconstructionKernel kernel)
 double
 ParseNumber(const std::string & text, const std::string & flag)
 {
-  const char * begin = text.c_str();
-  char *       end = nullptr;
-  errno = 0;
-  const double value = std::strtod(begin, &end);
-  if (text.empty() || end == begin || *end != '\0' || errno == ERANGE || !std::isfinite(value))
+  double value = 0.0;
+  if (!itk::DRRNumberParser::ParseFiniteNumber(text, value))
   {
     throw UsageError(flag + " expects a finite number, got '" + text + "'");
   }

@@ -18,18 +18,20 @@
 
 // libFuzzer target: the bytes are the text of a geometry file (docs/fuzzing.md).
 //
-// The text is read as itk::DRRProjectionGeometry::ReadGeometryFile() reads a file (ReadGeometry() on a stream). An
-// itk::ExceptionObject is a valid outcome, from the parser or from VerifyGeometry(). Findings (abort): any other
-// exception, a crash or a sanitizer report, and a geometry that VerifyGeometry() accepts but whose derived quantities
-// (source, detector centre, pixel centres, 2D output origin, detector axes) are not finite, or whose axes are not an
-// orthonormal frame with the normal.
+// The text is read as itk::DRRProjectionGeometry::ReadGeometryFile() reads a file (DRRProjectionGeometryFileIO's
+// ReadFromStream()). An itk::ExceptionObject is a valid outcome, from the parser or from VerifyGeometry(). Findings
+// (abort): any other exception, a crash or a sanitizer report, a geometry that VerifyGeometry() accepts but whose
+// derived quantities (source, detector centre, pixel centres, 2D output origin, detector axes) are not finite, or whose
+// axes are not an orthonormal frame with the normal, and such a geometry that DRRProjectionGeometryFileIO does not
+// write, or writes so that reading it back does not give it bit for bit.
 
-#include "itkDRRProjectionGeometry.h"
+#include "itkDRRProjectionGeometryFileIO.h"
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -94,6 +96,48 @@ CheckDerivedQuantities(const GeometryType * geometry, const std::string & text)
   check(std::abs(u * v) < tolerance && std::abs(u * n) < tolerance && std::abs(v * n) < tolerance,
         "detector axes and normal are not orthogonal");
 }
+
+bool
+SameBits(const double * a, const double * b, unsigned int count)
+{
+  return std::memcmp(a, b, count * sizeof(double)) == 0;
+}
+
+/** Writes the geometry, reads it back into a default geometry: every field the same, bit for bit. */
+void
+CheckWriteReadBack(const GeometryType * geometry, const std::string & text)
+{
+  std::ostringstream written;
+  auto               readBack = GeometryType::New();
+  try
+  {
+    itk::DRRProjectionGeometryFileIO::WriteToStream(written, geometry);
+    std::istringstream stream(written.str());
+    itk::DRRProjectionGeometryFileIO::ReadFromStream(stream, readBack, "written");
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    Finding(std::string("a verified geometry was not written and read back: ") + e.GetDescription(), text, geometry);
+  }
+  const double scalars[3] = { geometry->GetSourceToIsocenterDistance(),
+                              geometry->GetSourceToDetectorDistance(),
+                              geometry->GetGantryAngleInDegrees() };
+  const double readScalars[3] = { readBack->GetSourceToIsocenterDistance(),
+                                  readBack->GetSourceToDetectorDistance(),
+                                  readBack->GetGantryAngleInDegrees() };
+  const bool   same =
+    readBack->GetProjection() == geometry->GetProjection() && SameBits(scalars, readScalars, 3) &&
+    SameBits(readBack->GetNormal().GetDataPointer(), geometry->GetNormal().GetDataPointer(), 3) &&
+    SameBits(readBack->GetViewUp().GetDataPointer(), geometry->GetViewUp().GetDataPointer(), 3) &&
+    SameBits(readBack->GetIsocenter().GetDataPointer(), geometry->GetIsocenter().GetDataPointer(), 3) &&
+    readBack->GetDetectorSize() == geometry->GetDetectorSize() &&
+    SameBits(readBack->GetDetectorSpacing().GetDataPointer(), geometry->GetDetectorSpacing().GetDataPointer(), 2) &&
+    SameBits(readBack->GetDetectorOffset().GetDataPointer(), geometry->GetDetectorOffset().GetDataPointer(), 2);
+  if (!same)
+  {
+    Finding("the geometry written and read back differs from the geometry:\n" + written.str(), text, geometry);
+  }
+}
 } // namespace
 
 extern "C" int
@@ -111,7 +155,7 @@ LLVMFuzzerTestOneInput(const uint8_t * data, size_t size)
   std::istringstream stream(text);
   try
   {
-    geometry->ReadGeometry(stream, "fuzz");
+    itk::DRRProjectionGeometryFileIO::ReadFromStream(stream, geometry, "fuzz");
   }
   catch (const itk::ExceptionObject &)
   {
@@ -141,5 +185,6 @@ LLVMFuzzerTestOneInput(const uint8_t * data, size_t size)
     Finding("VerifyGeometry() threw something that is not an itk::ExceptionObject", text, geometry);
   }
   CheckDerivedQuantities(geometry, text);
+  CheckWriteReadBack(geometry, text);
   return 0;
 }

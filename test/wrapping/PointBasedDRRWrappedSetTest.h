@@ -33,6 +33,7 @@
 #include "itkDRRLevelAliasSampler.h"
 #include "itkDRRMetropolisSampler.h"
 #include "itkDRRPaperHybridSampler.h"
+#include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkIdentityTransform.h"
@@ -286,6 +287,11 @@ ExerciseSetterGetter(T & object, const std::string & className)
     EXPECT_EQ(object.GetSourceToIsocenterDistance(), 800.0) << className;
     object.SetGantryAngleInDegrees(90.0);
     EXPECT_NEAR(object.GetNormal()[1], -1.0, 1e-12) << className;
+  }
+  else if constexpr (std::is_base_of<itk::DRRProjectionGeometryFileIO, T>::value)
+  {
+    object.SetFileName("geometry.txt");
+    EXPECT_EQ(std::string(object.GetFileName()), "geometry.txt") << className;
   }
   else if constexpr (std::is_base_of<itk::DRRTransferFunction, T>::value)
   {
