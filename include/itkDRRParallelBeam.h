@@ -36,6 +36,8 @@ struct DRRParallelBeam
   static constexpr const char * Name = "parallel";
   /** One line for the help. */
   static constexpr const char * Description = "lines along the detector normal through every pixel, weight 1";
+  /** No source: whole lines along the normal (DRRPointProjection's parallel path). */
+  static constexpr bool HasSource = false;
 };
 } // namespace itk
 

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRPointProjection.h"
+#include "itkDRRPolicies.h"
 #include "vnl/vnl_det.h"
 
 #include <algorithm>
@@ -50,7 +51,9 @@ DRRPointProjection::DRRPointProjection(const DRRProjectionGeometry & geometry,
   m_RoomToIndex = MatrixType(m_IndexToRoom.GetInverse());
   m_RoomToIndexOffset = -(m_RoomToIndex * m_IndexToRoomOffset);
 
-  m_Perspective = geometry.GetProjection() == PointBasedDRREnums::Projection::Perspective;
+  // From the beam's registration (an unregistered enumerator throws rather than falling back to parallel).
+  m_Perspective =
+    DRRPolicies::Beams::Visit(geometry.GetProjection(), [](auto beam) { return decltype(beam)::HasSource; });
   m_Columns = static_cast<unsigned int>(geometry.GetDetectorSize()[0]);
   m_Rows = static_cast<unsigned int>(geometry.GetDetectorSize()[1]);
   m_SID = geometry.GetSourceToDetectorDistance();

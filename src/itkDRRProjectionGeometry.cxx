@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRProjectionGeometry.h"
+#include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkContinuousIndex.h"
 #include "itkMath.h"
@@ -233,7 +234,7 @@ DRRProjectionGeometry::VerifyGeometry() const
     ThrowGeometryError("a detector of " + std::to_string(m_DetectorSize[0]) + " x " +
                        std::to_string(m_DetectorSize[1]) + " pixels is more than 2^28 pixels");
   }
-  if (m_Projection == ProjectionEnum::Perspective)
+  if (DRRPolicies::Beams::Visit(m_Projection, [](auto beam) { return decltype(beam)::HasSource; }))
   {
     if (!(m_SourceToIsocenterDistance > 0.0) || !std::isfinite(m_SourceToIsocenterDistance))
     {
