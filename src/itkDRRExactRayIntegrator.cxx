@@ -148,10 +148,15 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) 
         const double  middle = 0.5 * (t + tEnd);
         for (double node : { middle - gaussOffset * length, middle + gaussOffset * length })
         {
+          // The node lies in this cell, but its position, rounded apart from the traversal's, can fall outside the
+          // cell by a few ulps (a ray on a plane of the dual grid: through voxel centres): a fraction of -1e-16 gives
+          // a negative weight, and a neighbour of mu 1e25 /mm a negative integral. Clamped to the cell, the weights
+          // stay a convex combination of the corners' mu, so the integrand is never negative; the ray moves by
+          // rounding only, and a fraction within [0, 1] is unchanged.
           double fraction[3];
           for (unsigned int a = 0; a < 3; ++a)
           {
-            fraction[a] = p0[a] + node * d[a] - static_cast<double>(corner[a]);
+            fraction[a] = std::min(std::max(p0[a] + node * d[a] - static_cast<double>(corner[a]), 0.0), 1.0);
           }
           integral += 0.5 * length * this->Trilinear(corner, fraction);
         }

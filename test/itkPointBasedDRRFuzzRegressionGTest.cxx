@@ -157,6 +157,66 @@ TEST(PointBasedDRRFuzzRegression, Gray16IntoUnsignedCharIsRefused)
   EXPECT_EQ(UpdateError(exact.GetPointer()), "");
 }
 
+// Fuzzing found: a negative line integral (-7.9e7) from the exact tent (trilinear) projector. The ray of an explicit
+// parallel geometry (a frame rotated 180 degrees about x, about -180 about y: v has a z component of 1.2e-16) runs
+// through the voxel centres of row y = 1, a plane of the dual grid; a Gauss node's fraction came out -1.1e-16, a
+// negative weight on the neighbour's mu of 1e25 /mm. The fractions are clamped to the cell now, so the integrand is a
+// convex combination of the corners' mu. Before that, this case gave -3.9e7 (neighbours 1e25) and -1.2e21 (3e38).
+// Seed: corpus/Filter/regression_trilinear_ray_on_centre_plane.
+TEST(PointBasedDRRFuzzRegression, TrilinearRayOnAVoxelCentrePlaneIsNeverNegative)
+{
+  MuVolumeType::SpacingType spacing;
+  spacing[0] = 1.0;
+  spacing[1] = 0.5;
+  spacing[2] = 0.07;
+  MuVolumeType::PointType origin;
+  origin.Fill(0.0);
+  MuVolumeType::DirectionType direction;
+  direction.SetIdentity();
+  auto volume = MakeVolume<MuVolumeType>({ { 1, 3, 1 } }, spacing, origin, direction);
+
+  itk::Vector<double, 3> u;
+  u[0] = -0.999999995403967;
+  u[1] = -1.1741333277025684e-20;
+  u[2] = -9.5875262036372092e-05;
+  itk::Vector<double, 3> v;
+  v[0] = 0.0;
+  v[1] = -1.0;
+  v[2] = 1.2246467991473532e-16;
+  const itk::Vector<double, 3> n = itk::CrossProduct(u, v);
+  MuVolumeType::PointType      centre = volume->GetOrigin();
+  centre[1] += 0.5; // voxel (0, 1, 0)
+  auto geometry = GeometryType::New();
+  geometry->SetExplicitParallelGeometry(centre - n * 3.0, u, v);
+  geometry->SetDetectorSize({ { 1, 1 } });
+  geometry->SetDetectorSpacing(GeometryType::DetectorVectorType(2.0));
+
+  auto exact = itk::ExactDRRImageFilter<MuVolumeType, itk::Image<double, 2>>::New();
+  exact->SetInput(volume);
+  exact->SetGeometry(geometry);
+  exact->GetTransferFunction()->SetMode(TransferEnum::Identity);
+  exact->SetNumberOfWorkUnits(1);
+  for (const auto kernel :
+       { itk::PointBasedDRREnums::ReconstructionKernel::Tent, itk::PointBasedDRREnums::ReconstructionKernel::Box })
+  {
+    exact->SetReconstructionKernel(kernel);
+    for (const float neighbour : { 1e25f, 1.0f, 3e38f })
+    {
+      volume->SetPixel({ { 0, 0, 0 } }, neighbour);
+      volume->SetPixel({ { 0, 1, 0 } }, 0.02f);
+      volume->SetPixel({ { 0, 2, 0 } }, neighbour);
+      volume->Modified();
+      ASSERT_EQ(UpdateError(exact.GetPointer()), "") << kernel << ", neighbours " << neighbour;
+      const double value = ToVector(exact->GetOutput())[0];
+      EXPECT_TRUE(std::isfinite(value) && value >= 0.0) << kernel << ", neighbours " << neighbour << ": " << value;
+      if (neighbour == 1.0f) // ordinary values: the integral of the centre row's mu along z, 0.02 x 0.07 mm
+      {
+        EXPECT_NEAR(value, 0.02 * 0.07, 1e-8) << kernel; // the tilt takes 2e-6 of it
+      }
+    }
+  }
+}
+
 // ReadGeometry() reads the geometry-file format from a stream, as ReadGeometryFile() does from a file.
 TEST(PointBasedDRRFuzzRegression, ReadGeometryFromAStreamNamesTheLine)
 {
