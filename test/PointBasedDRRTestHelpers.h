@@ -21,7 +21,10 @@
 #include "itkImage.h"
 #include "itkMath.h"
 
+#include "gtest/gtest.h"
+
 #include <cmath>
+#include <string>
 #include <vector>
 
 /** Small builders shared by the PointBasedDRR tests. */
@@ -111,6 +114,35 @@ SharedDataDirectory()
 #else
   return "";
 #endif
+}
+
+/** Runs f; returns the description of the itk::ExceptionObject it throws, or records a failure (GoogleTest). */
+template <typename TFunction>
+std::string
+ExceptionMessage(TFunction f, const std::string & what)
+{
+  try
+  {
+    f();
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    return e.GetDescription();
+  }
+  catch (...)
+  {
+    ADD_FAILURE() << what << ": threw something other than itk::ExceptionObject";
+    return "";
+  }
+  ADD_FAILURE() << what << ": did not throw";
+  return "";
+}
+
+/** True if text contains part. */
+inline bool
+Contains(const std::string & text, const std::string & part)
+{
+  return text.find(part) != std::string::npos;
 }
 } // namespace PointBasedDRRTest
 

@@ -20,6 +20,8 @@
 
 #include "gtest/gtest.h"
 
+#include "PointBasedDRRTestHelpers.h"
+
 #include "itkDRRNumberParser.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 
@@ -35,6 +37,8 @@
 
 namespace
 {
+using PointBasedDRRTest::Contains;
+using PointBasedDRRTest::ExceptionMessage;
 using GeometryType = itk::DRRProjectionGeometry;
 using IOType = itk::DRRProjectionGeometryFileIO;
 using PointType = GeometryType::PointType;
@@ -141,33 +145,6 @@ ExpectRoundTrip(const GeometryType * geometry, const std::string & what)
   return written.str();
 }
 
-/** Runs f; returns the description of the itk::ExceptionObject it throws, or records a failure. */
-template <typename TFunction>
-std::string
-ExceptionMessage(TFunction f, const std::string & what)
-{
-  try
-  {
-    f();
-  }
-  catch (const itk::ExceptionObject & e)
-  {
-    return e.GetDescription();
-  }
-  catch (...)
-  {
-    ADD_FAILURE() << what << ": threw something other than itk::ExceptionObject";
-    return "";
-  }
-  ADD_FAILURE() << what << ": did not throw";
-  return "";
-}
-
-bool
-Contains(const std::string & text, const std::string & part)
-{
-  return text.find(part) != std::string::npos;
-}
 } // namespace
 
 // ---------------------------------------------------------------------------------------------------------------------

@@ -38,6 +38,8 @@
 
 namespace
 {
+using PointBasedDRRTest::Contains;
+using PointBasedDRRTest::ExceptionMessage;
 using GeometryType = itk::DRRProjectionGeometry;
 using PointType = GeometryType::PointType;
 using VectorType = GeometryType::VectorType;
@@ -101,34 +103,6 @@ double
 Dot(const VectorType & a, const VectorType & b)
 {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/** Runs f; returns the description of the itk::ExceptionObject it throws, or records a failure. */
-template <typename TFunction>
-std::string
-ExceptionMessage(TFunction f, const std::string & what)
-{
-  try
-  {
-    f();
-  }
-  catch (const itk::ExceptionObject & e)
-  {
-    return e.GetDescription();
-  }
-  catch (...)
-  {
-    ADD_FAILURE() << what << ": threw something other than itk::ExceptionObject";
-    return "";
-  }
-  ADD_FAILURE() << what << ": did not throw";
-  return "";
-}
-
-bool
-Contains(const std::string & text, const std::string & part)
-{
-  return text.find(part) != std::string::npos;
 }
 
 /** The message names line `line` of a file, as "file:4:" or "line 4". */
