@@ -116,6 +116,28 @@ SharedDataDirectory()
 #endif
 }
 
+/** The vector (x, y, z), mm or unitless. */
+inline itk::Vector<double, 3>
+Vec(double x, double y, double z)
+{
+  itk::Vector<double, 3> v;
+  v[0] = x;
+  v[1] = y;
+  v[2] = z;
+  return v;
+}
+
+/** The point (x, y, z), mm. */
+inline itk::Point<double, 3>
+Pt(double x, double y, double z)
+{
+  itk::Point<double, 3> p;
+  p[0] = x;
+  p[1] = y;
+  p[2] = z;
+  return p;
+}
+
 /** Runs f; returns the description of the itk::ExceptionObject it throws, or records a failure (GoogleTest). */
 template <typename TFunction>
 std::string

@@ -39,31 +39,13 @@ namespace
 {
 using PointBasedDRRTest::Contains;
 using PointBasedDRRTest::ExceptionMessage;
+using PointBasedDRRTest::Pt;
+using PointBasedDRRTest::Vec;
 using GeometryType = itk::DRRProjectionGeometry;
 using IOType = itk::DRRProjectionGeometryFileIO;
 using PointType = GeometryType::PointType;
 using VectorType = GeometryType::VectorType;
 using ProjectionEnum = GeometryType::ProjectionEnum;
-
-VectorType
-Vec(double x, double y, double z)
-{
-  VectorType v;
-  v[0] = x;
-  v[1] = y;
-  v[2] = z;
-  return v;
-}
-
-PointType
-Pt(double x, double y, double z)
-{
-  PointType p;
-  p[0] = x;
-  p[1] = y;
-  p[2] = z;
-  return p;
-}
 
 GeometryType::DetectorVectorType
 Vec2(double a, double b)

@@ -40,6 +40,8 @@ namespace
 {
 using PointBasedDRRTest::Contains;
 using PointBasedDRRTest::ExceptionMessage;
+using PointBasedDRRTest::Pt;
+using PointBasedDRRTest::Vec;
 using GeometryType = itk::DRRProjectionGeometry;
 using PointType = GeometryType::PointType;
 using VectorType = GeometryType::VectorType;
@@ -50,26 +52,6 @@ double
 Tolerance(double expected)
 {
   return 1e-9 * (1.0 + std::abs(expected));
-}
-
-VectorType
-Vec(double x, double y, double z)
-{
-  VectorType v;
-  v[0] = x;
-  v[1] = y;
-  v[2] = z;
-  return v;
-}
-
-PointType
-Pt(double x, double y, double z)
-{
-  PointType p;
-  p[0] = x;
-  p[1] = y;
-  p[2] = z;
-  return p;
 }
 
 /** p + a u + b v, componentwise (a hand formula, no library call). */
