@@ -76,6 +76,8 @@ public:
   using PointType = Point<double, 3>;
   /** A task run for each block of voxels by ParallelizeBlocks(). */
   using BlockFunctionType = std::function<void(uint64_t block)>;
+  /** Fills mu (1/mm) of the voxels [begin, end) (linear index, x fastest) for BuildFromMu(). */
+  using MuFunctionType = std::function<void(uint64_t begin, uint64_t end, float * mu)>;
 
   /** Method for creation through the object factory. */
   itkNewMacro(Self);
@@ -94,6 +96,13 @@ public:
         const SizeType &            size,
         const DRRTransferFunction & transfer,
         MultiThreaderBase *         threader);
+
+  /** Builds a volume of mu per voxel (no levels) computed by fill for the voxels of every fixed block, on the threads
+   * of threader (null: platform threads of its own): for volumes derived from another one (DRRControlVariate's coarse
+   * and residual volumes), without a copy of input values. Throws, naming the first offending voxel in memory order,
+   * for a negative or non-finite mu. The index-to-physical mapping is left as it was. */
+  void
+  BuildFromMu(const SizeType & size, const MuFunctionType & fill, MultiThreaderBase * threader);
 
   /** Grid size in voxels (x, y, z). */
   const SizeType &

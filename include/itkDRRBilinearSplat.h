@@ -21,6 +21,7 @@
 #include "itkPointBasedDRREnums.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace itk
@@ -45,6 +46,16 @@ struct DRRBilinearSplat
   static constexpr double Reach = 1.0;
   /** A point is shared among up to 4 pixels. */
   static constexpr unsigned int Corners = 4;
+
+  /** Offset (pixels, along one axis) from a pixel centre of a detector position drawn from the pixel's footprint for
+   * this splat, the density with which a position counts to the pixel (the tent 1 - |x| on [-1, 1], whose integral
+   * is one pixel), for u uniform in [0, 1): the inverse of the tent's distribution function. The rays of the control
+   * variate's exact coarse image (DRRExactRayIntegrator::RenderFootprintAverages()). */
+  static double
+  FootprintOffset(double u)
+  {
+    return u < 0.5 ? std::sqrt(2.0 * u) - 1.0 : 1.0 - std::sqrt(2.0 * (1.0 - u));
+  }
 
   /** The four pixels around (column, row) (continuous pixel indices, centres at integers) and their bilinear shares,
    * pixel -1 and share 0 for those off the detector. TReal: double (the render that draws), or float (the render of a

@@ -50,6 +50,15 @@ struct DRRNearestSplat
   /** A point goes to one pixel. */
   static constexpr unsigned int Corners = 1;
 
+  /** Offset (pixels, along one axis) from a pixel centre of a detector position drawn from the pixel's footprint for
+   * this splat, the density with which a position counts to the pixel (uniform over the pixel), for u uniform in
+   * [0, 1): the rays of the control variate's exact coarse image (DRRExactRayIntegrator::RenderFootprintAverages()). */
+  static double
+  FootprintOffset(double u)
+  {
+    return u - 0.5;
+  }
+
   /** The pixel that contains (column, row) (continuous pixel indices, centres at integers), with share 1; pixel -1
    * and share 0 off the detector. TReal: double (the render that draws), or float (the render of a kept cloud, twice
    * the lanes). */

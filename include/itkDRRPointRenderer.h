@@ -108,6 +108,10 @@ public:
      * per stratum (N >= 16 R, HasEnoughSamplesPerStratum()), otherwise, like R = 1, one stratum (standard error from
      * the points as if they were independent). */
     uint64_t NumberOfStrata{ 0 };
+    /** Signed points (the residual of a control variate, DRRControlVariate::GetNegativeVoxels()): one bit per voxel
+     * of the volume (bit v % 64 of word v / 64), set where a point drawn in the voxel carries a negative weight; null:
+     * every weight is positive. */
+    const uint64_t * NegativeVoxels{ nullptr };
   };
 
   /** What a render returns. */

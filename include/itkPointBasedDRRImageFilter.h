@@ -19,6 +19,7 @@
 #define itkPointBasedDRRImageFilter_h
 
 #include "itkDRRImageFilterBase.h"
+#include "itkDRRControlVariate.h"
 #include "itkDRRPointSampler.h"
 #include "itkDRRPointRenderer.h"
 
@@ -141,6 +142,34 @@ public:
   itkBooleanMacro(ReusePoints);
   ///@}
 
+  /** SetControlVariateFactor() value that lets the filter choose F for the volume and the view at every render
+   * (DRRControlVariate::ChooseFactor()). */
+  static constexpr unsigned int AutomaticControlVariateFactor = 0xFFFFFFFFu;
+
+  ///@{
+  /** Control variate (DESIGN 10, DRRControlVariate): 0 (default) off; F (2 to DRRControlVariate::MaximumFactor) splits
+   * the box model into block means of F^3 voxels, whose image is integrated exactly along 2 ControlVariateRaysPerSide^2
+   * jittered rays per pixel, plus the signed residual, which the points sample: the same expectation, with the error
+   * of the points scaled by about M_r / M (GetControlVariate()->GetResidualMass() / GetTotalMass()).
+   * AutomaticControlVariateFactor: the filter chooses F. Needs the box kernel and the unbiased weighting (Update()
+   * throws otherwise). With ReusePoints, the residual's points are kept and the coarse image re-rendered per pose. */
+  itkSetMacro(ControlVariateFactor, unsigned int);
+  itkGetConstMacro(ControlVariateFactor, unsigned int);
+  ///@}
+  ///@{
+  /** Rays per pixel side k of the control variate's coarse image: two independent replicates of k^2 rays, each
+   * jittered in its stratum of the splat's footprint (1 to 16, default 1); their difference gives the coarse image's
+   * standard error (DRRExactRayIntegrator::RenderFootprintAverages()). */
+  itkSetClampMacro(ControlVariateRaysPerSide, unsigned int, 1, 16);
+  itkGetConstMacro(ControlVariateRaysPerSide, unsigned int);
+  ///@}
+  /** The split of the last render with a control variate (null before one, and after a render without). */
+  const DRRControlVariate *
+  GetControlVariate() const
+  {
+    return m_ControlVariateFactor > 0 ? m_ControlVariate.GetPointer() : nullptr;
+  }
+
   /** The kept points (null unless ReusePoints and after an update); see DRRPointCloud::GetBytesPerPoint(). */
   const DRRPointCloud *
   GetPointCloud() const
@@ -203,6 +232,18 @@ protected:
   /** Settings of pass number `pass` (its seed derived from Seed and the pass). */
   DRRPointRenderer::Settings
   MakeSettings(uint64_t samples, unsigned int pass) const;
+
+  /** The volume the sampler draws from: the attenuation volume, or the control variate's residual. */
+  const DRRAttenuationVolume &
+  GetSamplingVolume();
+
+  /** F of the next render: ControlVariateFactor, or the choice for the view (AutomaticControlVariateFactor). */
+  unsigned int
+  ResolveControlVariateFactor();
+
+  /** Adds the control variate's coarse image for the current pose to a render of the residual (no-op without one). */
+  void
+  AddControlVariateImage(const DRRPointRenderer::Settings & settings, DRRPointRenderer::Result & result);
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
@@ -214,6 +255,11 @@ private:
   SplatEnum                     m_Splat{ SplatEnum::Nearest };
   WeightingEnum                 m_PointWeighting{ WeightingEnum::Unbiased };
   typename SamplerType::Pointer m_Sampler;
+  unsigned int                  m_ControlVariateFactor{ 0 };
+  unsigned int                  m_ControlVariateRaysPerSide{ 1 };
+  DRRControlVariate::Pointer    m_ControlVariate;
+  const DRRAttenuationVolume *  m_ControlVariateVolume{ nullptr };
+  ModifiedTimeType              m_ControlVariateVolumeTime{ 0 };
   const DRRAttenuationVolume *  m_SamplerVolume{ nullptr };
   ModifiedTimeType              m_SamplerVolumeTime{ 0 };
   ModifiedTimeType              m_SamplerTime{ 0 };

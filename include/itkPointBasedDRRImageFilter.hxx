@@ -44,6 +44,46 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetMTime() const
 }
 
 template <typename TInputImage, typename TOutputImage>
+unsigned int
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveControlVariateFactor()
+{
+  if (m_ControlVariateFactor == AutomaticControlVariateFactor)
+  {
+    const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+    if (m_ReusePoints && m_ControlVariate && m_ControlVariateVolume == volume &&
+        m_ControlVariateVolumeTime == volume->GetMTime())
+    {
+      return m_ControlVariate->GetFactor(); // kept points: one split for every pose, chosen at the first
+    }
+    return DRRControlVariate::ChooseFactor(*this->GetAttenuationVolume(), this->MakeProjection());
+  }
+  return m_ControlVariateFactor;
+}
+
+template <typename TInputImage, typename TOutputImage>
+const DRRAttenuationVolume &
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSamplingVolume()
+{
+  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+  const unsigned int           factor = this->ResolveControlVariateFactor();
+  if (factor == 0)
+  {
+    m_ControlVariate = nullptr; // its tables are large: free them once off
+    return *volume;
+  }
+  if (!m_ControlVariate || m_ControlVariate->GetFactor() != factor || m_ControlVariateVolume != volume ||
+      m_ControlVariateVolumeTime != volume->GetMTime())
+  {
+    m_ControlVariate = nullptr; // free the old split before building the new one
+    m_ControlVariate = DRRControlVariate::New();
+    m_ControlVariate->Build(*volume, factor, this->GetMultiThreader());
+    m_ControlVariateVolume = volume;
+    m_ControlVariateVolumeTime = volume->GetMTime();
+  }
+  return m_ControlVariate->GetResidualVolume();
+}
+
+template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
 {
@@ -51,13 +91,30 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
   {
     itkExceptionMacro("no sampler set");
   }
-  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+  const DRRAttenuationVolume * volume = &this->GetSamplingVolume();
   if (m_SamplerVolume != volume || m_SamplerVolumeTime != volume->GetMTime() || m_SamplerTime != m_Sampler->GetMTime())
   {
     m_Sampler->Initialize(*volume);
     m_SamplerVolume = volume;
     m_SamplerVolumeTime = volume->GetMTime();
     m_SamplerTime = m_Sampler->GetMTime();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::AddControlVariateImage(const DRRPointRenderer::Settings & settings,
+                                                                            DRRPointRenderer::Result &         result)
+{
+  if (m_ControlVariate)
+  {
+    m_ControlVariate->AddCoarseImage(this->MakeProjection(),
+                                     settings.Splat,
+                                     m_ControlVariateRaysPerSide,
+                                     settings.Seed,
+                                     this->GetMultiThreader(),
+                                     this,
+                                     result);
   }
 }
 
@@ -73,6 +130,29 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t sampl
   {
     // One stratum of dependent points has no spread to measure: its standard error would assume independence.
     itkExceptionMacro("NumberOfStrata must be 0 (the sampler's choice) or 2 to 256, not 1");
+  }
+  if (m_ControlVariateFactor > 0 && m_ReconstructionKernel != KernelEnum::Box)
+  {
+    itkExceptionMacro("the control variate needs the box kernel (its coarse image is the box model's), not "
+                      << m_ReconstructionKernel);
+  }
+  if (m_ControlVariateFactor > 0 && m_PointWeighting != WeightingEnum::Unbiased)
+  {
+    itkExceptionMacro("the control variate needs the unbiased point weighting (its coarse image is a line integral), "
+                      "not "
+                      << m_PointWeighting);
+  }
+  if (m_ControlVariateFactor > DRRControlVariate::MaximumFactor &&
+      m_ControlVariateFactor != AutomaticControlVariateFactor)
+  {
+    itkExceptionMacro("ControlVariateFactor must be 0 (off), 2 to " << DRRControlVariate::MaximumFactor
+                                                                    << " or AutomaticControlVariateFactor, not "
+                                                                    << m_ControlVariateFactor);
+  }
+  if (m_ControlVariateFactor == 1)
+  {
+    itkExceptionMacro("ControlVariateFactor 1 would make the coarse image the exact one: use 0 (off), 2 to "
+                      << DRRControlVariate::MaximumFactor << " or AutomaticControlVariateFactor");
   }
   if (m_Sampler)
   {
@@ -118,8 +198,11 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   else
   {
     this->PrepareSampling();
+    DRRPointRenderer::Settings signedSettings = settings;
+    signedSettings.NegativeVoxels = m_ControlVariate ? m_ControlVariate->GetNegativeVoxels() : nullptr;
     result = DRRPointRenderer::Render(
-      *this->GetAttenuationVolume(), *m_Sampler, this->MakeProjection(), settings, this->GetMultiThreader(), this);
+      *m_SamplerVolume, *m_Sampler, this->MakeProjection(), signedSettings, this->GetMultiThreader(), this);
+    this->AddControlVariateImage(settings, result);
   }
   if (result.SourceNearVolume)
   {
@@ -136,8 +219,9 @@ template <typename TInputImage, typename TOutputImage>
 DRRPointRenderer::Result
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
 {
-  const DRRPointRenderer::Settings settings = this->MakeSettings(m_NumberOfSamples, 0);
+  DRRPointRenderer::Settings settings = this->MakeSettings(m_NumberOfSamples, 0);
   this->PrepareSampling();
+  settings.NegativeVoxels = m_ControlVariate ? m_ControlVariate->GetNegativeVoxels() : nullptr;
   // Everything the points depend on; the pose (transform, geometry), the splat and the weighting are not in it.
   const std::vector<ModifiedTimeType> key{ m_SamplerVolumeTime,
                                            m_SamplerTime,
@@ -151,8 +235,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
   if (!m_PointCloud || key != m_PointCloudKey)
   {
     m_PointCloud = nullptr; // free the old points before drawing new ones
-    m_PointCloud =
-      DRRPointRenderer::Draw(*this->GetAttenuationVolume(), *m_Sampler, settings, this->GetMultiThreader(), this);
+    m_PointCloud = DRRPointRenderer::Draw(*m_SamplerVolume, *m_Sampler, settings, this->GetMultiThreader(), this);
     m_PointCloudKey = key;
     ++m_NumberOfPointCloudDraws;
   }
@@ -160,8 +243,10 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
   {
     m_PointCloudWorkspace = DRRPointRenderer::MakeWorkspace();
   }
-  return DRRPointRenderer::Render(
+  DRRPointRenderer::Result result = DRRPointRenderer::Render(
     *m_PointCloud, this->MakeProjection(), settings, this->GetMultiThreader(), this, m_PointCloudWorkspace.get());
+  this->AddControlVariateImage(settings, result);
+  return result;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -231,6 +316,11 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
   os << indent << "Splat: " << m_Splat << std::endl;
   os << indent << "PointWeighting: " << m_PointWeighting << std::endl;
   os << indent << "NumberOfStrata: " << m_NumberOfStrata << std::endl;
+  os << indent << "ControlVariateFactor: "
+     << (m_ControlVariateFactor == AutomaticControlVariateFactor ? std::string("auto")
+                                                                 : std::to_string(m_ControlVariateFactor))
+     << std::endl;
+  os << indent << "ControlVariateRaysPerSide: " << m_ControlVariateRaysPerSide << std::endl;
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
   os << indent << "PointsOnDetector: " << m_PointsOnDetector << std::endl;

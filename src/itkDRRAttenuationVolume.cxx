@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace itk
@@ -163,6 +164,61 @@ DRRAttenuationVolume::MaterializeMu() const
   m_Mu.reset(mu);
   m_MuReady.store(true, std::memory_order_release);
   return mu;
+}
+
+void
+DRRAttenuationVolume::BuildFromMu(const SizeType & size, const MuFunctionType & fill, MultiThreaderBase * threader)
+{
+  this->Reset(size);
+  const uint64_t       numberOfVoxels = this->GetNumberOfVoxels();
+  const uint64_t       numberOfBlocks = this->GetNumberOfBlocks();
+  std::vector<Failure> failures(numberOfBlocks);
+  std::vector<float>   smallest(numberOfBlocks, std::numeric_limits<float>::max());
+  std::vector<float>   largest(numberOfBlocks, 0.0f);
+  m_Mu.reset(new float[numberOfVoxels]);
+  float * mu = m_Mu.get();
+  ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      const uint64_t begin = this->GetBlockBegin(b);
+      const uint64_t end = this->GetBlockBegin(b + 1);
+      fill(begin, end, mu);
+      Failure & failure = failures[b];
+      failure.Voxel = numberOfVoxels;
+      float blockSmallest = std::numeric_limits<float>::max();
+      float blockLargest = 0.0f;
+      for (uint64_t v = begin; v < end; ++v)
+      {
+        const float m = mu[v];
+        if (!(m >= 0.0f) || !(m <= std::numeric_limits<float>::max()))
+        {
+          failure.Voxel = v;
+          failure.Value = m;
+          failure.Attenuation = m;
+          return;
+        }
+        blockSmallest = std::min(blockSmallest, m > 0.0f ? m : std::numeric_limits<float>::max());
+        blockLargest = std::max(blockLargest, m);
+      }
+      smallest[b] = blockSmallest;
+      largest[b] = blockLargest;
+    },
+    threader);
+  for (const Failure & failure : failures)
+  {
+    if (failure.Voxel < numberOfVoxels)
+    {
+      this->Reset(m_Size);
+      this->ThrowFailure(failure);
+    }
+  }
+  if (numberOfVoxels > 0)
+  {
+    m_LargestMu = *std::max_element(largest.begin(), largest.end());
+    m_SmallestPositiveMu = m_LargestMu > 0.0f ? *std::min_element(smallest.begin(), smallest.end()) : 0.0f;
+  }
+  m_MuReady.store(true, std::memory_order_release);
+  this->Modified();
 }
 
 void

@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkDRRExactRayIntegrator.h"
 #include "itkDRRPolicies.h"
+#include "itkDRRPhiloxRandom.h"
 #include "itkDRRWorkScheduler.h"
 
 #include <algorithm>
@@ -25,7 +26,10 @@
 
 namespace itk
 {
-DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume, KernelEnum kernel) : m_Volume(volume)
+DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume,
+                                             KernelEnum                   kernel,
+                                             unsigned int                 indexCoarsening)
+  : m_Volume(volume), m_IndexCoarsening(static_cast<double>(indexCoarsening))
 {
   // The registry says which exact projector a kernel's model has; this class implements Siddon's and the trilinear one.
   const std::string reference = DRRPolicies::Kernels::Visit(kernel, [](auto policy) {
@@ -37,6 +41,11 @@ DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume
                                                            << " kernel has no exact projector");
   }
   m_Siddon = reference == "siddon";
+  if (indexCoarsening == 0 || (indexCoarsening > 1 && !m_Siddon))
+  {
+    itkGenericExceptionMacro("DRRExactRayIntegrator: an index coarsening of "
+                             << indexCoarsening << " is not supported (1, or more with the box model)");
+  }
   // Box: cells are the voxels, planes at -0.5 .. n - 0.5. Tent: cells lie between the centres of the zero-padded
   // grid, planes at -1 .. n; cell c spans [c - 1, c] and its lower corner is voxel c - 1.
   m_GridStart = m_Siddon ? -0.5 : -1.0;
@@ -174,7 +183,11 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) 
 }
 
 double
-DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection, double column, double row) const
+DRRExactRayIntegrator::ComputeRaySegment(const DRRPointProjection & projection,
+                                         double                     column,
+                                         double                     row,
+                                         double                     p0[3],
+                                         double                     p1[3]) const
 {
   using PointType = DRRPointProjection::PointType;
   const PointType pixel = projection.GetPixelPosition(column, row);
@@ -188,12 +201,6 @@ DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection, doubl
   else
   {
     // The whole line through the pixel along n: clip it to the depth range of the model's support box.
-    std::array<double, 3> lower, upper;
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      lower[a] = m_GridStart - 1.0;
-      upper[a] = m_GridStart + static_cast<double>(m_NumberOfCells[a]) + 1.0;
-    }
     double sMin = std::numeric_limits<double>::infinity();
     double sMax = -sMin;
     for (unsigned int corner = 0; corner < 8; ++corner)
@@ -201,7 +208,9 @@ DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection, doubl
       double p[3];
       for (unsigned int a = 0; a < 3; ++a)
       {
-        p[a] = (corner >> a) & 1u ? upper[a] : lower[a];
+        const double own =
+          (corner >> a) & 1u ? m_GridStart + static_cast<double>(m_NumberOfCells[a]) + 1.0 : m_GridStart - 1.0;
+        p[a] = m_IndexCoarsening * (own + 0.5) - 0.5;
       }
       const double s = (projection.IndexToRoom(p) - pixel) * projection.GetNormal();
       sMin = std::min(sMin, s);
@@ -210,11 +219,26 @@ DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection, doubl
     start = pixel + projection.GetNormal() * sMax;
     end = pixel + projection.GetNormal() * sMin;
   }
-  double p0[3];
-  double p1[3];
   projection.RoomToIndex(start, p0);
   projection.RoomToIndex(end, p1);
-  return (end - start).GetNorm() * this->IntegrateSegment(p0, p1);
+  if (m_IndexCoarsening != 1.0)
+  {
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      p0[a] = (p0[a] + 0.5) / m_IndexCoarsening - 0.5;
+      p1[a] = (p1[a] + 0.5) / m_IndexCoarsening - 0.5;
+    }
+  }
+  return (end - start).GetNorm();
+}
+
+double
+DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection, double column, double row) const
+{
+  double       p0[3];
+  double       p1[3];
+  const double length = this->ComputeRaySegment(projection, column, row, p0, p1);
+  return length * this->IntegrateSegment(p0, p1);
 }
 
 std::vector<double>
@@ -253,5 +277,63 @@ DRRExactRayIntegrator::RenderProjection(const DRRPointProjection & projection,
     },
     progressFilter);
   return image;
+}
+
+void
+DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projection,
+                                               SplatEnum                  splat,
+                                               unsigned int               raysPerSide,
+                                               uint64_t                   seed,
+                                               MultiThreaderBase *        threader,
+                                               ProcessObject *            progressFilter,
+                                               std::vector<double> &      image,
+                                               std::vector<double> &      standardError) const
+{
+  if (raysPerSide == 0)
+  {
+    itkGenericExceptionMacro("DRRExactRayIntegrator: the number of rays per pixel side must be at least 1");
+  }
+  const unsigned int columns = projection.GetNumberOfColumns();
+  const unsigned int rows = projection.GetNumberOfRows();
+  image.assign(static_cast<size_t>(columns) * rows, 0.0);
+  standardError.assign(image.size(), 0.0);
+  const double raysPerReplicate = static_cast<double>(raysPerSide) * raysPerSide;
+  const double inverseRays = 1.0 / static_cast<double>(raysPerSide);
+  DRRPolicies::Splats::Visit(splat, [&](auto policy) {
+    using SplatType = decltype(policy);
+    DRRWorkScheduler::Run(
+      threader,
+      rows,
+      [&](unsigned int, uint64_t row) {
+        // Stream 2 of the row (the point renders use streams 0 and 1 of their chunks): the same rays on any threads.
+        DRRPhiloxRandom stream(seed, row, 2);
+        for (unsigned int column = 0; column < columns; ++column)
+        {
+          double replicate[2];
+          for (double & mean : replicate)
+          {
+            double sum = 0.0;
+            for (unsigned int sv = 0; sv < raysPerSide; ++sv)
+            {
+              for (unsigned int su = 0; su < raysPerSide; ++su)
+              {
+                const DRRPhiloxRandom::BlockType bits = stream.Next();
+                const double                     u = (su + DRRPhiloxRandom::ToUnitInterval(bits[0])) * inverseRays;
+                const double                     v = (sv + DRRPhiloxRandom::ToUnitInterval(bits[1])) * inverseRays;
+                sum += this->IntegrateRay(projection,
+                                          static_cast<double>(column) + SplatType::FootprintOffset(u),
+                                          static_cast<double>(row) + SplatType::FootprintOffset(v));
+              }
+            }
+            mean = sum / raysPerReplicate;
+          }
+          const size_t pixel = static_cast<size_t>(row) * columns + column;
+          image[pixel] = 0.5 * (replicate[0] + replicate[1]);
+          standardError[pixel] = 0.5 * std::abs(replicate[0] - replicate[1]);
+        }
+      },
+      progressFilter);
+    return 0;
+  });
 }
 } // namespace itk

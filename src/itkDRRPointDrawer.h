@@ -39,8 +39,13 @@ public:
   PointDrawer(const DRRPointSampler &    sampler,
               const DRRSamplerViewPlan & plan,
               const DRRSamplerTraits &   traits,
-              uint64_t                   seed)
-    : m_Sampler(sampler), m_Plan(plan), m_ProvidesJitter(traits.ProvidesJitter), m_Seed(seed)
+              uint64_t                   seed,
+              const uint64_t *           negativeVoxels = nullptr)
+    : m_Sampler(sampler)
+    , m_Plan(plan)
+    , m_ProvidesJitter(traits.ProvidesJitter)
+    , m_Seed(seed)
+    , m_NegativeVoxels(negativeVoxels)
   {}
 
   /** Calls consume(first, count) after each batch of the chunk's samples is placed (first: its first sample). */
@@ -64,6 +69,10 @@ public:
       range.Count =
         std::min({ samplesPerBatch, end - range.First, range.StratumFirst + range.StratumSize - range.First });
       this->DrawVoxels(samplerStream, range, cursor, batch);
+      if (m_NegativeVoxels)
+      {
+        this->ApplySigns(range.Count, batch);
+      }
       if (!strata.IsInterleaved())
       {
         std::fill(batch.Stratum, batch.Stratum + range.Count, static_cast<uint32_t>(range.Stratum));
@@ -100,6 +109,20 @@ private:
                                     batch.Voxel });
   }
 
+  /** A point drawn in a voxel of negative residual carries a negative weight (DRRPointRenderer::Settings). */
+  void
+  ApplySigns(uint64_t count, Batch & batch) const
+  {
+    const uint64_t nx = m_Plan.GetVolumeSize()[0];
+    const uint64_t nxy = nx * m_Plan.GetVolumeSize()[1];
+    for (uint64_t s = 0; s < count; ++s)
+    {
+      const uint64_t v = batch.I[s] + nx * batch.J[s] + nxy * batch.K[s];
+      const bool     negative = (m_NegativeVoxels[v >> 6] >> (v & 63)) & 1u;
+      batch.Weight[s] = negative ? -batch.Weight[s] : batch.Weight[s];
+    }
+  }
+
   static void
   DrawJitter(DRRPhiloxRandom & stream, uint64_t count, Batch & batch)
   {
@@ -128,6 +151,7 @@ private:
   const DRRSamplerViewPlan & m_Plan;
   const bool                 m_ProvidesJitter;
   const uint64_t             m_Seed;
+  const uint64_t *           m_NegativeVoxels;
 };
 } // namespace DRRRendering
 } // namespace itk

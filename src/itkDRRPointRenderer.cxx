@@ -217,7 +217,7 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   PrepareWorkers(workspace, strata, result.LineIntegral.size(), threader);
   DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
     return DRRPolicies::Splats::Visit(settings.Splat, [&](auto splat) {
-      const PointDrawer<decltype(kernel)>  drawer(sampler, *plan, traits, settings.Seed);
+      const PointDrawer<decltype(kernel)>  drawer(sampler, *plan, traits, settings.Seed, settings.NegativeVoxels);
       const PointSplatter<decltype(splat)> splatter(
         projection, fixedPoint, settings.Weighting == WeightingEnum::Unbiased);
       const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(drawer, splatter);
@@ -263,12 +263,14 @@ DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
     cloud->Allocate(0, false, false, description); // all air: no points, zero images
     return cloud;
   }
-  cloud->Allocate(
-    strata.GetNumberOfSamples(), sampler.GetMaximumWeight() != 1.0, strata.GetNumberOfStrata() > 1, description);
+  cloud->Allocate(strata.GetNumberOfSamples(),
+                  sampler.GetMaximumWeight() != 1.0 || settings.NegativeVoxels != nullptr,
+                  strata.GetNumberOfStrata() > 1,
+                  description);
   Workspace workspace;
   PrepareWorkers(workspace, strata, 0, threader);
   DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
-    const PointDrawer<decltype(kernel)>         drawer(sampler, *plan, traits, settings.Seed);
+    const PointDrawer<decltype(kernel)>         drawer(sampler, *plan, traits, settings.Seed, settings.NegativeVoxels);
     const DrawChunksIntoCloud<decltype(kernel)> work(drawer, *cloud);
     RunChunks(work, strata, workspace, threader, progressFilter);
     return 0;

@@ -1,0 +1,150 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRControlVariate_h
+#define itkDRRControlVariate_h
+
+#include "itkDRRAttenuationVolume.h"
+#include "itkDRRPointProjection.h"
+#include "itkDRRPointRenderer.h"
+#include "PointBasedDRRExport.h"
+
+#include <vector>
+
+namespace itk
+{
+/** \class DRRControlVariate
+ * \brief The split mu = mu_c + r of a box-model volume into an exact coarse part and a signed residual (DESIGN 10).
+ *
+ * mu_c is the volume coarsened by a factor F per axis: block means of F^3 voxels, the volume padded with air to a
+ * multiple of F, so a coarse voxel is the box of its F^3 fine voxels. r = mu - mu_c is piecewise constant on the fine
+ * voxels of the padded grid (the padding holds r = -mu_c). For every pixel L[mu] = L[mu_c] + L[r]:
+ * - the coarse image L[mu_c] is integrated exactly (Siddon) along rays jittered in the strata of the splat's footprint
+ *   (AddCoarseImage()), so that it estimates the same pixel average as the points, without bias;
+ * - the residual is sampled by points with density |r| / M_r (M_r = sum |r_v| V, GetResidualMass()), each carrying
+ *   the sign of its voxel's r: any sampler initialized on GetResidualVolume() (|r| per voxel) draws them, and the
+ *   renderer flips the weight of a point drawn in a voxel of GetNegativeVoxels() (DRRPointRenderer::Settings).
+ *
+ * At equal N the residual's error scales by M_r / M against plain sampling, where the coarse image explains most of
+ * the mass; the coarse image costs 2 raysPerSide^2 rays per pixel through F^3 fewer voxels.
+ *
+ * Tables: |r| per voxel of the padded grid (4 bytes), the sign of r (1 bit), the coarse volume (4 / F^3 bytes).
+ *
+ * \sa PointBasedDRRImageFilter::SetControlVariateFactor()
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRControlVariate : public Object
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(DRRControlVariate);
+
+  /** Standard class type aliases. */
+  using Self = DRRControlVariate;
+  using Superclass = Object;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+  /** Nearest or Bilinear splat (the footprint of the coarse image's rays). */
+  using SplatEnum = PointBasedDRREnums::Splat;
+
+  /** Method for creation through the object factory. */
+  itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
+  itkTypeMacro(DRRControlVariate, Object);
+
+  /** Largest coarsening factor F: a coarse voxel of 4096 fine voxels a side is no longer a model of anything. */
+  static constexpr unsigned int MaximumFactor = 4096;
+
+  /** Splits volume (its box model; levels or mu per voxel) with coarsening factor F (2 .. MaximumFactor; larger than
+   * the volume is allowed: one coarse voxel), on the threads of threader (null: platform threads of its own). The
+   * volume need not outlive this object. */
+  void
+  Build(const DRRAttenuationVolume & volume, unsigned int factor, MultiThreaderBase * threader);
+
+  /** The coarsening factor F per axis (0 before Build()). */
+  itkGetConstMacro(Factor, unsigned int);
+
+  /** mu_c: the block means, ceil(n / F) voxels per axis, each the box of F^3 voxels of the fine grid. */
+  const DRRAttenuationVolume &
+  GetCoarseVolume() const
+  {
+    return *m_CoarseVolume;
+  }
+
+  /** |r| on the fine grid padded to a multiple of F (same index-to-physical mapping as the fine volume): what a
+   * sampler of the residual is initialized with. */
+  const DRRAttenuationVolume &
+  GetResidualVolume() const
+  {
+    return *m_ResidualVolume;
+  }
+
+  /** One bit per voxel of the residual volume (linear index v: bit v % 64 of word v / 64): set where r < 0. */
+  const uint64_t *
+  GetNegativeVoxels() const
+  {
+    return m_NegativeVoxels.data();
+  }
+
+  /** M = sum mu_v V of the fine volume, mm^2. */
+  itkGetConstMacro(TotalMass, double);
+  /** M_r = sum |r_v| V, mm^2: at equal N, the residual's error is M_r / M of plain sampling's. */
+  itkGetConstMacro(ResidualMass, double);
+
+  /** Renders the coarse image for projection (built for the fine volume) with two replicates of raysPerSide^2 rays per
+   * pixel drawn from the splat's footprint (streams of seed) and adds it to a render of the residual's points: the line
+   * integral becomes L_c + L_r and the standard error sqrt(se_c^2 + se_r^2). threader: not null. */
+  void
+  AddCoarseImage(const DRRPointProjection & projection,
+                 SplatEnum                  splat,
+                 unsigned int               raysPerSide,
+                 uint64_t                   seed,
+                 MultiThreaderBase *        threader,
+                 ProcessObject *            progressFilter,
+                 DRRPointRenderer::Result & result) const;
+
+  /** The factor `auto` picks for a volume and a view: the largest power of two (2 to 8) at which a coarse voxel is no
+   * wider than the footprint of a detector pixel at the volume's centre (see docs/design.md, section 10). */
+  static unsigned int
+  ChooseFactor(const DRRAttenuationVolume & volume, const DRRPointProjection & projection);
+
+  /** Bytes held by the split's tables (coarse volume, |r|, signs). */
+  size_t
+  GetTableSizeInBytes() const;
+
+protected:
+  DRRControlVariate();
+  ~DRRControlVariate() override = default;
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  void
+  BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
+  void
+  BuildResidualVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
+
+  unsigned int                  m_Factor{ 0 };
+  double                        m_TotalMass{ 0.0 };
+  double                        m_ResidualMass{ 0.0 };
+  DRRAttenuationVolume::Pointer m_CoarseVolume;
+  DRRAttenuationVolume::Pointer m_ResidualVolume;
+  std::vector<uint64_t>         m_NegativeVoxels;
+};
+} // namespace itk
+
+#endif

@@ -1,0 +1,255 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRControlVariate.h"
+#include "itkDRRExactRayIntegrator.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace itk
+{
+namespace
+{
+/** The residual r = mu - mu_c of the voxels [begin, end) of the padded grid, in order: visit(v, r) (1/mm, in double:
+ * the difference of two floats). The coarse voxel of a fine one is found by counters, not divisions. */
+template <typename TVisit>
+void
+VisitResidual(const float *                          mu,
+              const DRRAttenuationVolume::SizeType & fineSize,
+              const float *                          coarseMu,
+              const DRRAttenuationVolume::SizeType & coarseSize,
+              uint64_t                               factor,
+              uint64_t                               begin,
+              uint64_t                               end,
+              TVisit &&                              visit)
+{
+  const uint64_t px = coarseSize[0] * factor;
+  const uint64_t py = coarseSize[1] * factor;
+  uint64_t       i = begin % px;
+  uint64_t       j = (begin / px) % py;
+  uint64_t       k = begin / (px * py);
+  for (uint64_t v = begin; v < end;)
+  {
+    // One row (or what is left of it in the range) at a time: j and k, and so the row's coarse row, are fixed.
+    const uint64_t rowEnd = std::min(end, v + (px - i));
+    const bool     rowInside = j < fineSize[1] && k < fineSize[2];
+    const float *  fineRow = mu + fineSize[0] * (j + fineSize[1] * k);
+    const float *  coarseRow = coarseMu + coarseSize[0] * (j / factor + coarseSize[1] * (k / factor));
+    for (; v < rowEnd; ++v, ++i)
+    {
+      const double coarse = coarseRow[i / factor];
+      const double fine = rowInside && i < fineSize[0] ? static_cast<double>(fineRow[i]) : 0.0;
+      visit(v, fine - coarse);
+    }
+    i = 0;
+    if (++j == py)
+    {
+      j = 0;
+      ++k;
+    }
+  }
+}
+} // namespace
+
+DRRControlVariate::DRRControlVariate()
+  : m_CoarseVolume(DRRAttenuationVolume::New()), m_ResidualVolume(DRRAttenuationVolume::New())
+{}
+
+void
+DRRControlVariate::Build(const DRRAttenuationVolume & volume, unsigned int factor, MultiThreaderBase * threader)
+{
+  if (factor < 2 || factor > MaximumFactor)
+  {
+    itkExceptionMacro("the control variate's coarsening factor must be 2 to " << MaximumFactor << ", not " << factor);
+  }
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    if (volume.GetSize()[a] == 0)
+    {
+      itkExceptionMacro("the control variate needs a volume with at least one voxel");
+    }
+  }
+  m_Factor = factor;
+  m_TotalMass = volume.ComputeTotalMass();
+  this->BuildCoarseVolume(volume, threader);
+  this->BuildResidualVolume(volume, threader);
+  m_ResidualMass = m_ResidualVolume->ComputeTotalMass();
+  this->Modified();
+}
+
+void
+DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader)
+{
+  const uint64_t                       F = m_Factor;
+  const DRRAttenuationVolume::SizeType fine = volume.GetSize();
+  DRRAttenuationVolume::SizeType       coarse;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    coarse[a] = (fine[a] + F - 1) / F;
+  }
+  const float * mu = volume.GetMuBuffer();
+  // Air pads the last blocks: their sums run over the voxels inside, their means over all F^3.
+  const double inverseBlockVolume = 1.0 / (static_cast<double>(F) * static_cast<double>(F) * static_cast<double>(F));
+  m_CoarseVolume->BuildFromMu(
+    coarse,
+    [&](uint64_t begin, uint64_t end, float * coarseMu) {
+      for (uint64_t c = begin; c < end; ++c)
+      {
+        const uint64_t ci = c % coarse[0];
+        const uint64_t cj = (c / coarse[0]) % coarse[1];
+        const uint64_t ck = c / (coarse[0] * coarse[1]);
+        double         sum = 0.0;
+        for (uint64_t k = ck * F; k < std::min(fine[2], ck * F + F); ++k)
+        {
+          for (uint64_t j = cj * F; j < std::min(fine[1], cj * F + F); ++j)
+          {
+            const float * row = mu + fine[0] * (j + fine[1] * k);
+            for (uint64_t i = ci * F; i < std::min(fine[0], ci * F + F); ++i)
+            {
+              sum += row[i];
+            }
+          }
+        }
+        coarseMu[c] = static_cast<float>(sum * inverseBlockVolume);
+      }
+    },
+    threader);
+  // Coarse voxel c is the box of fine voxels F c .. F c + F - 1: its centre is at fine index F c + (F - 1) / 2.
+  DRRAttenuationVolume::MatrixType matrix = volume.GetIndexToPhysicalMatrix() * static_cast<double>(F);
+  DRRAttenuationVolume::PointType  origin = volume.GetOrigin();
+  const double                     shift = 0.5 * (static_cast<double>(F) - 1.0);
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      origin[r] += volume.GetIndexToPhysicalMatrix()[r][a] * shift;
+    }
+  }
+  m_CoarseVolume->SetIndexToPhysical(matrix, origin);
+}
+
+void
+DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader)
+{
+  const uint64_t                       F = m_Factor;
+  const DRRAttenuationVolume::SizeType fine = volume.GetSize();
+  const DRRAttenuationVolume::SizeType coarse = m_CoarseVolume->GetSize();
+  const DRRAttenuationVolume::SizeType padded{ { coarse[0] * F, coarse[1] * F, coarse[2] * F } };
+  const float *                        mu = volume.GetMuBuffer();
+  const float *                        coarseMu = m_CoarseVolume->GetMuBuffer();
+  m_ResidualVolume->BuildFromMu(
+    padded,
+    [&](uint64_t begin, uint64_t end, float * magnitude) {
+      VisitResidual(mu, fine, coarseMu, coarse, F, begin, end, [magnitude](uint64_t v, double r) {
+        magnitude[v] = static_cast<float>(std::abs(r));
+      });
+    },
+    threader);
+  m_ResidualVolume->SetIndexToPhysical(volume.GetIndexToPhysicalMatrix(), volume.GetOrigin());
+
+  // The signs, in blocks of whole 64-voxel words (each word written by one thread).
+  const uint64_t numberOfVoxels = m_ResidualVolume->GetNumberOfVoxels();
+  const uint64_t numberOfWords = (numberOfVoxels + 63) / 64;
+  m_NegativeVoxels.assign(numberOfWords, 0);
+  uint64_t *     words = m_NegativeVoxels.data();
+  const uint64_t numberOfBlocks = DRRAttenuationVolume::ComputeNumberOfBlocks(numberOfVoxels);
+  DRRAttenuationVolume::ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      const uint64_t begin = 64 * (numberOfWords * b / numberOfBlocks);
+      const uint64_t end = std::min(numberOfVoxels, 64 * (numberOfWords * (b + 1) / numberOfBlocks));
+      VisitResidual(mu, fine, coarseMu, coarse, F, begin, end, [words](uint64_t v, double r) {
+        words[v >> 6] |= static_cast<uint64_t>(r < 0.0) << (v & 63);
+      });
+    },
+    threader);
+}
+
+void
+DRRControlVariate::AddCoarseImage(const DRRPointProjection & projection,
+                                  SplatEnum                  splat,
+                                  unsigned int               raysPerSide,
+                                  uint64_t                   seed,
+                                  MultiThreaderBase *        threader,
+                                  ProcessObject *            progressFilter,
+                                  DRRPointRenderer::Result & result) const
+{
+  if (m_Factor == 0)
+  {
+    itkExceptionMacro("AddCoarseImage() needs Build() first");
+  }
+  std::vector<double>         image;
+  std::vector<double>         standardError;
+  const DRRExactRayIntegrator integrator(*m_CoarseVolume, PointBasedDRREnums::ReconstructionKernel::Box, m_Factor);
+  integrator.RenderFootprintAverages(
+    projection, splat, raysPerSide, seed, threader, progressFilter, image, standardError);
+  if (image.size() != result.LineIntegral.size())
+  {
+    itkExceptionMacro("AddCoarseImage(): the render has " << result.LineIntegral.size() << " pixels, the view "
+                                                          << image.size());
+  }
+  for (size_t p = 0; p < image.size(); ++p)
+  {
+    result.LineIntegral[p] += image[p];
+    result.StandardError[p] =
+      std::sqrt(result.StandardError[p] * result.StandardError[p] + standardError[p] * standardError[p]);
+  }
+  result.RoomMass = m_TotalMass * projection.GetRoomMassScale();
+}
+
+unsigned int
+DRRControlVariate::ChooseFactor(const DRRAttenuationVolume & volume, const DRRPointProjection & projection)
+{
+  double centre[3];
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    centre[a] = 0.5 * (static_cast<double>(volume.GetSize()[a]) - 1.0);
+  }
+  double column, row, depth;
+  projection.ProjectToDetectorPlane(centre, column, row, depth);
+  const double pixelPitch = std::sqrt(projection.GetPixelArea()); // mm on the detector
+  const double footprint = projection.IsPerspective() && depth > 0.0
+                             ? pixelPitch * depth / projection.GetSourceToDetectorDistance()
+                             : pixelPitch;                     // mm at the volume's centre
+  const double voxelSize = std::cbrt(volume.GetVoxelVolume()); // mm
+  unsigned int factor = 2;
+  while (factor < 8 && 2.0 * factor * voxelSize <= footprint)
+  {
+    factor *= 2;
+  }
+  return factor;
+}
+
+size_t
+DRRControlVariate::GetTableSizeInBytes() const
+{
+  return static_cast<size_t>(m_CoarseVolume->GetNumberOfVoxels() * sizeof(float) +
+                             m_ResidualVolume->GetNumberOfVoxels() * sizeof(float) +
+                             m_NegativeVoxels.size() * sizeof(uint64_t));
+}
+
+void
+DRRControlVariate::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "Factor: " << m_Factor << std::endl;
+  os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
+  os << indent << "ResidualMass (mm^2): " << m_ResidualMass << std::endl;
+  os << indent << "TableSize (bytes): " << this->GetTableSizeInBytes() << std::endl;
+}
+} // namespace itk
