@@ -66,6 +66,10 @@ public:
   /** Run-time type information (and related methods). */
   itkTypeMacro(DRRControlVariate, Object);
 
+  /** The factor that stands for "choose F for the volume and the view" (ChooseFactor()) in the settings of the filters
+   * and of pbdrr. */
+  static constexpr unsigned int AutomaticFactor = 0xFFFFFFFFu;
+
   /** Largest coarsening factor F: a coarse voxel of 4096 fine voxels a side is no longer a model of anything. */
   static constexpr unsigned int MaximumFactor = 4096;
 

@@ -144,7 +144,7 @@ public:
 
   /** SetControlVariateFactor() value that lets the filter choose F for the volume and the view at every render
    * (DRRControlVariate::ChooseFactor()). */
-  static constexpr unsigned int AutomaticControlVariateFactor = 0xFFFFFFFFu;
+  static constexpr unsigned int AutomaticControlVariateFactor = DRRControlVariate::AutomaticFactor;
 
   ///@{
   /** Control variate (DESIGN 10, DRRControlVariate): 0 (default) off; F (2 to DRRControlVariate::MaximumFactor) splits

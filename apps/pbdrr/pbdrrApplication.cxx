@@ -474,6 +474,8 @@ Run(const Options & options)
     pointBased->SetPointWeighting(options.paperCount ? itk::PointBasedDRREnums::PointWeighting::PaperCount
                                                      : itk::PointBasedDRREnums::PointWeighting::Unbiased);
     pointBased->SetSampler(itk::DRRSamplerFactory::Create(options.sampler, options.paperCount));
+    pointBased->SetControlVariateFactor(options.controlVariate);
+    pointBased->SetControlVariateRaysPerSide(options.raysPerSide);
     filter = pointBased.GetPointer();
   }
   else
@@ -539,6 +541,13 @@ Run(const Options & options)
                 << itk::DRRPolicies::Splats::GetName(options.splat) << ", attenuation mass M "
                 << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
                 << std::endl;
+      if (const itk::DRRControlVariate * split = pointBased->GetControlVariate())
+      {
+        std::cerr << "pbdrr: control variate F " << split->GetFactor() << ": residual mass M_r "
+                  << split->GetResidualMass() << " mm^2, M_r / M " << split->GetResidualMass() / split->GetTotalMass()
+                  << ", coarse image 2 x " << options.raysPerSide << " x " << options.raysPerSide << " rays per pixel"
+                  << std::endl;
+      }
       const std::string statistics = pointBased->GetSampler()->GetStatisticsSummary();
       if (!statistics.empty())
       {

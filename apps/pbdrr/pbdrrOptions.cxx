@@ -16,11 +16,13 @@
  *
  *=========================================================================*/
 #include "pbdrrOptions.h"
+#include "itkDRRControlVariate.h"
 #include "itkDRRNumberParser.h"
 #include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <functional>
 #include <sstream>
@@ -174,6 +176,26 @@ WholeNumber(const std::string & value, const std::string & flag, double lowest, 
   }
   return static_cast<unsigned>(number);
 }
+
+/** --control-variate F|auto|off: the filter's factor (0 off, AutomaticControlVariateFactor for auto). */
+unsigned
+ControlVariateFactor(const std::string & value)
+{
+  if (value == "off")
+  {
+    return 0;
+  }
+  if (value == "auto")
+  {
+    return itk::DRRControlVariate::AutomaticFactor;
+  }
+  if (!value.empty() && (std::isdigit(static_cast<unsigned char>(value[0])) || value[0] == '+' || value[0] == '.'))
+  {
+    return WholeNumber(value, "--control-variate", 2, itk::DRRControlVariate::MaximumFactor);
+  }
+  throw UsageError("--control-variate expects off, auto or a coarsening factor from 2 to " +
+                   std::to_string(itk::DRRControlVariate::MaximumFactor) + ", got '" + value + "'");
+}
 } // namespace
 
 Options
@@ -230,6 +252,7 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--threads", { 1, [&](const auto & v) { options.threads = WholeNumber(v[0], "--threads", 1, 1024); } } },
     { "--paper-count", { 0, [&](const auto &) { options.paperCount = true; } } },
     { "--strata", { 1, [&](const auto & v) { options.strata = WholeNumber(v[0], "--strata", 2, 256); } } },
+    { "--control-variate", { 1, [&](const auto & v) { options.controlVariate = ControlVariateFactor(v[0]); } } },
     { "--input-units",
       { 1,
         [&](const auto & v) {
@@ -301,6 +324,21 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   if (options.exact && options.paperCount)
   {
     throw UsageError("--paper-count applies to point sampling, not to --exact");
+  }
+  if (options.controlVariate > 0)
+  {
+    if (options.exact)
+    {
+      throw UsageError("--control-variate applies to point sampling, not to --exact");
+    }
+    if (options.paperCount)
+    {
+      throw UsageError("--control-variate needs the unbiased weighting, not --paper-count");
+    }
+    if (options.kernel != itk::PointBasedDRREnums::ReconstructionKernel::Box)
+    {
+      throw UsageError("--control-variate needs --kernel box (its coarse image is the box model's)");
+    }
   }
   return options;
 }
@@ -380,13 +418,18 @@ Rendering:
          PolicyLines("--splat NAME", "how a point lands on the detector", itk::DRRPolicies::Splats::GetEntries()) +
          R"(  --strata R             independent strata for stratified/metropolis (default: 4 and 16): fewer, less error;
                          more, a steadier standard-error image
+  --control-variate F|auto|off
+                         exact coarse image (block means of F^3 voxels, Siddon) plus points for the signed residual
+                         only: the same expectation, error about M_r / M of plain sampling; auto picks F for the
+                         view (default off); box kernel only
   --seed S               random seed (default 0): the same seed gives the same image on any thread count
   --threads T            worker threads (default: all cores)
   --paper-count          count points unweighted, as the paper does (biased in perspective, and for
                          paper-hybrid biased towards small dense levels)
   --exact NAME           render with an exact projector instead of points, no noise:
 )" + ExactReferenceLines() +
-         R"(  --ss K                 with --exact: K x K rays per pixel (default 1)
+         R"(  --ss K                 with --exact: K x K rays per pixel (default 1); with --control-variate: two
+                         replicates of K x K jittered rays per pixel for the coarse image
 
 Physics:
   --input-units hu|mu    voxels in Hounsfield units (default) or linear attenuation in 1/mm

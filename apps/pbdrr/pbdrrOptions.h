@@ -65,6 +65,8 @@ struct Options
   unsigned                                      threads{ 0 }; // 0: all
   bool                                          paperCount{ false };
   unsigned                                      strata{ 0 }; // 0: the sampler's preference
+  /** --control-variate: the coarsening factor F (0: off; the filter's AutomaticControlVariateFactor: auto). */
+  unsigned controlVariate{ 0 };
 
   std::string                          inputUnits{ "hu" };
   std::optional<double>                energyKeV;
