@@ -1,0 +1,327 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// The control variate (DESIGN 10) at its extremes: a residual of zero renders the coarse image alone, exactly where
+// the coarse image is flat over every pixel; all air, one voxel, a factor larger than the volume, int16 extremes, the
+// source inside the volume; the same bits on any number of threads; the split itself (masses, signs, block means).
+#include "itkPointBasedDRRImageFilter.h"
+#include "itkExactDRRImageFilter.h"
+#include "itkDRRControlVariate.h"
+#include "itkDRRSamplerFactory.h"
+#include "itkDRRTransferFunction.h"
+#include "PointBasedDRRTestHelpers.h"
+
+#include "gtest/gtest.h"
+
+#include <cstring>
+#include <limits>
+
+namespace
+{
+using namespace PointBasedDRRTest;
+using FilterType = itk::PointBasedDRRImageFilter<MuVolumeType, ProjectionType>;
+using ProjectionEnum = itk::PointBasedDRREnums::Projection;
+
+MuVolumeType::Pointer
+MakeMuVolume(const MuVolumeType::SizeType & size, float value)
+{
+  MuVolumeType::SpacingType spacing;
+  spacing.Fill(1.0);
+  MuVolumeType::PointType origin;
+  origin.Fill(0.0);
+  MuVolumeType::DirectionType direction;
+  direction.SetIdentity();
+  auto volume = MakeVolume<MuVolumeType>(size, spacing, origin, direction);
+  volume->FillBuffer(value);
+  return volume;
+}
+
+/** A parallel beam along -y whose 1 mm pixels line up with the voxels of a volume at the origin: every ray through a
+ * pixel crosses the same boxes over the same lengths. */
+itk::DRRProjectionGeometry::Pointer
+AlignedParallelGeometry(unsigned int columns, unsigned int rows, const itk::Point<double, 3> & isocenter)
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetProjection(ProjectionEnum::Parallel);
+  geometry->SetGantryAngleInDegrees(90.0);
+  geometry->SetIsocenter(isocenter);
+  geometry->SetDetectorSize({ { columns, rows } });
+  itk::Vector<double, 2> spacing;
+  spacing.Fill(1.0);
+  geometry->SetDetectorSpacing(spacing);
+  return geometry;
+}
+
+FilterType::Pointer
+MakeFilter(const MuVolumeType * volume, itk::DRRProjectionGeometry * geometry, unsigned int factor)
+{
+  auto filter = FilterType::New();
+  filter->SetInput(volume);
+  filter->GetTransferFunction()->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+  filter->SetGeometry(geometry);
+  filter->SetControlVariateFactor(factor);
+  filter->SetNumberOfSamples(100000);
+  filter->SetSampler(itk::DRRSamplerFactory::Create("stratified"));
+  return filter;
+}
+
+TEST(DRRControlVariate, ConstantVolumeRendersTheCoarseImageAloneExactlyWithZeroError)
+{
+  // 8 x 8 x 8 voxels of mu 0.02 /mm, F = 4 divides it: r = 0 everywhere, no point is drawn; the aligned parallel beam
+  // sees 8 mm of tissue over every pixel of the shadow, whatever ray the coarse image draws.
+  const auto volume = MakeMuVolume({ { 8, 8, 8 } }, 0.02f);
+  auto       filter = MakeFilter(volume, AlignedParallelGeometry(12, 12, Pt(3.5, 3.5, 3.5)), 4);
+  filter->Update();
+  ASSERT_NE(filter->GetControlVariate(), nullptr);
+  EXPECT_EQ(filter->GetControlVariate()->GetResidualMass(), 0.0);
+  EXPECT_EQ(filter->GetPointsOnDetector(), 0u);
+  const auto values = ToVector(filter->GetOutput());
+  const auto errors = ToVector(filter->GetStandardErrorOutput());
+  for (unsigned int row = 0; row < 12; ++row)
+  {
+    for (unsigned int column = 0; column < 12; ++column)
+    {
+      const size_t p = row * 12 + column;
+      const bool   shadow = row >= 2 && row < 10 && column >= 2 && column < 10;
+      EXPECT_NEAR(values[p], shadow ? 8 * 0.02 : 0.0, 1e-6) << "pixel " << column << ", " << row;
+      EXPECT_NEAR(errors[p], 0.0, 1e-7) << "pixel " << column << ", " << row;
+    }
+  }
+}
+
+TEST(DRRControlVariate, AllAirAndNothingInViewGiveZeroImagesWithZeroError)
+{
+  const auto air = MakeMuVolume({ { 5, 6, 7 } }, 0.0f);
+  auto       filter = MakeFilter(air, AlignedParallelGeometry(8, 8, Pt(2, 2.5, 3)), 2);
+  filter->Update();
+  for (float v : ToVector(filter->GetOutput()))
+  {
+    EXPECT_EQ(v, 0.0f);
+  }
+  for (float v : ToVector(filter->GetStandardErrorOutput()))
+  {
+    EXPECT_EQ(v, 0.0f);
+  }
+}
+
+/** Mean of many seeds of a filter against the exact pixel-averaged Siddon image, within 5 standard errors of the mean
+ * (from the spread of the seeds) plus the reference's own midpoint error. */
+template <typename TFilter>
+void
+ExpectUnbiasedAgainstSiddon(TFilter * filter, const std::string & what, unsigned int seeds = 48)
+{
+  using VolumeType = typename TFilter::InputImageType;
+  auto exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
+  exact->SetInput(filter->GetInput());
+  exact->SetTransferFunction(filter->GetTransferFunction());
+  exact->SetGeometry(filter->GetGeometry());
+  exact->SetRaysPerPixelSide(32);
+  exact->Update();
+  const auto          reference = ToVector(exact->GetOutput());
+  std::vector<double> sum(reference.size(), 0.0), sumOfSquares(reference.size(), 0.0);
+  for (unsigned int seed = 0; seed < seeds; ++seed)
+  {
+    filter->SetSeed(seed + 1);
+    filter->Update();
+    const auto values = ToVector(filter->GetOutput());
+    for (size_t p = 0; p < values.size(); ++p)
+    {
+      sum[p] += values[p];
+      sumOfSquares[p] += values[p] * values[p];
+    }
+  }
+  const double peak = *std::max_element(reference.begin(), reference.end());
+  for (size_t p = 0; p < reference.size(); ++p)
+  {
+    const double mean = sum[p] / seeds;
+    const double standardErrorOfMean = std::sqrt(std::max(0.0, sumOfSquares[p] / seeds - mean * mean) / (seeds - 1.0));
+    EXPECT_LE(std::abs(mean - reference[p]), 5.0 * standardErrorOfMean + 2e-3 * peak) << what << " pixel " << p;
+  }
+}
+
+TEST(DRRControlVariate, OneVoxelAndAFactorLargerThanTheVolumeStayUnbiased)
+{
+  auto one = MakeMuVolume({ { 1, 1, 1 } }, 0.05f);
+  auto filter = MakeFilter(one, AlignedParallelGeometry(3, 3, Pt(0, 0, 0)), 8);
+  filter->Update();
+  // One voxel in a coarse box of 8^3: M_r = (1 - 1/512) mu + 511 mu / 512 = 2 (511 / 512) mu V.
+  EXPECT_NEAR(filter->GetControlVariate()->GetResidualMass(), 2.0 * 511.0 / 512.0 * double(0.05f), 1e-8);
+  EXPECT_EQ(filter->GetControlVariate()->GetCoarseVolume().GetNumberOfVoxels(), 1u);
+  ExpectUnbiasedAgainstSiddon(filter.GetPointer(), "one voxel, F = 8");
+}
+
+TEST(DRRControlVariate, Int16ExtremesStayUnbiased)
+{
+  using HUFilterType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  HUVolumeType::SpacingType spacing;
+  spacing.Fill(1.0);
+  HUVolumeType::PointType origin;
+  origin.Fill(0.0);
+  HUVolumeType::DirectionType direction;
+  direction.SetIdentity();
+  auto volume = MakeVolume<HUVolumeType>({ { 5, 6, 3 } }, spacing, origin, direction);
+  auto buffer = volume->GetBufferPointer();
+  for (size_t v = 0; v < 90; ++v)
+  {
+    buffer[v] = v % 3 == 0 ? std::numeric_limits<short>::max() : v % 3 == 1 ? std::numeric_limits<short>::min() : 0;
+  }
+  auto filter = HUFilterType::New();
+  filter->SetInput(volume);
+  filter->SetGeometry(AlignedParallelGeometry(8, 8, Pt(2, 2.5, 1)));
+  filter->SetControlVariateFactor(2);
+  filter->SetNumberOfSamples(100000);
+  filter->Update();
+  const double mass = filter->GetControlVariate()->GetTotalMass();
+  EXPECT_GT(mass, 0.0);
+  EXPECT_GT(filter->GetControlVariate()->GetResidualMass(), 0.0);
+  for (float v : ToVector(filter->GetOutput()))
+  {
+    EXPECT_TRUE(std::isfinite(v));
+  }
+  ExpectUnbiasedAgainstSiddon(filter.GetPointer(), "int16 extremes");
+}
+
+TEST(DRRControlVariate, SourceInsideTheVolumeGivesAFiniteImageAndAWarning)
+{
+  const auto volume = MakeMuVolume({ { 10, 10, 10 } }, 0.02f);
+  auto       geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetSourceToIsocenterDistance(2.0); // the source 2 mm from the centre: inside
+  geometry->SetSourceToDetectorDistance(30.0);
+  geometry->SetIsocenter(Pt(4.5, 4.5, 4.5));
+  geometry->SetDetectorSize({ { 16, 16 } });
+  itk::Vector<double, 2> spacing;
+  spacing.Fill(4.0);
+  geometry->SetDetectorSpacing(spacing);
+  auto filter = MakeFilter(volume, geometry, 4);
+  filter->GlobalWarningDisplayOff();
+  filter->Update();
+  for (float v : ToVector(filter->GetOutput()))
+  {
+    EXPECT_TRUE(std::isfinite(v));
+  }
+  for (float v : ToVector(filter->GetStandardErrorOutput()))
+  {
+    EXPECT_TRUE(std::isfinite(v));
+  }
+}
+
+std::vector<double>
+RenderOnThreads(unsigned int threads, itk::PointBasedDRREnums::Splat splat, bool standardError, bool reuse)
+{
+  MuVolumeType::SpacingType spacing;
+  spacing[0] = 1.0;
+  spacing[1] = 1.5;
+  spacing[2] = 2.0;
+  MuVolumeType::PointType origin;
+  origin.Fill(-5.0);
+  MuVolumeType::DirectionType direction;
+  direction.SetIdentity();
+  auto         volume = MakeVolume<MuVolumeType>({ { 13, 11, 9 } }, spacing, origin, direction);
+  unsigned int state = 7u;
+  for (size_t v = 0; v < volume->GetBufferedRegion().GetNumberOfPixels(); ++v)
+  {
+    state = state * 1664525u + 1013904223u;
+    volume->GetBufferPointer()[v] = 0.001f * static_cast<float>((state >> 8) % 40);
+  }
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetSourceToIsocenterDistance(60.0);
+  geometry->SetSourceToDetectorDistance(100.0);
+  geometry->SetGantryAngleInDegrees(30.0);
+  geometry->SetIsocenter(Pt(1, 2, 3));
+  geometry->SetDetectorSize({ { 24, 20 } });
+  itk::Vector<double, 2> pixel;
+  pixel.Fill(1.5);
+  geometry->SetDetectorSpacing(pixel);
+  auto filter = MakeFilter(volume, geometry, 4);
+  filter->SetSampler(itk::DRRSamplerFactory::Create("level-alias"));
+  filter->SetSplat(splat);
+  filter->SetReusePoints(reuse);
+  filter->SetSeed(11);
+  filter->SetNumberOfWorkUnits(threads);
+  filter->GetMultiThreader()->SetMaximumNumberOfThreads(threads);
+  filter->Update();
+  return ToVector(standardError ? filter->GetStandardErrorOutput() : filter->GetOutput());
+}
+
+TEST(DRRControlVariate, SameSeedSameBitsOnOneTwoAndSevenThreads)
+{
+  for (auto splat : { itk::PointBasedDRREnums::Splat::Nearest, itk::PointBasedDRREnums::Splat::Bilinear })
+  {
+    for (bool standardError : { false, true })
+    {
+      for (bool reuse : { false, true })
+      {
+        const auto one = RenderOnThreads(1, splat, standardError, reuse);
+        const auto two = RenderOnThreads(2, splat, standardError, reuse);
+        const auto seven = RenderOnThreads(7, splat, standardError, reuse);
+        ASSERT_EQ(one.size(), two.size());
+        EXPECT_EQ(0, std::memcmp(one.data(), two.data(), one.size() * sizeof(double))) << splat << " reuse " << reuse;
+        EXPECT_EQ(0, std::memcmp(one.data(), seven.data(), one.size() * sizeof(double))) << splat << " reuse " << reuse;
+      }
+    }
+  }
+}
+
+TEST(DRRControlVariate, SplitsIntoBlockMeansAndASignedResidual)
+{
+  // 3 x 2 x 1 voxels, F = 2: two coarse voxels; the second holds one column of the volume and a column of padding.
+  auto        volume = itk::DRRAttenuationVolume::New();
+  const float mu[6] = { 0.1f, 0.3f, 0.5f, 0.2f, 0.4f, 0.8f };
+  auto        transfer = itk::DRRTransferFunction::New();
+  transfer->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+  volume->Build(mu, { { 3, 2, 1 } }, *transfer, nullptr);
+  auto split = itk::DRRControlVariate::New();
+  split->Build(*volume, 2, nullptr);
+  const auto & coarse = split->GetCoarseVolume();
+  ASSERT_EQ(coarse.GetNumberOfVoxels(), 2u);
+  EXPECT_FLOAT_EQ(coarse.GetMuBuffer()[0], (0.1f + 0.3f + 0.2f + 0.4f) / 8.0f);
+  EXPECT_FLOAT_EQ(coarse.GetMuBuffer()[1], (0.5f + 0.8f) / 8.0f); // padding is air, the mean over all F^3
+  const auto & residual = split->GetResidualVolume();
+  ASSERT_EQ(residual.GetSize()[0], 4u);
+  ASSERT_EQ(residual.GetSize()[2], 2u);
+  double sumOfMagnitudes = 0.0;
+  for (uint64_t v = 0; v < residual.GetNumberOfVoxels(); ++v)
+  {
+    const uint64_t i = v % 4, j = (v / 4) % 2, k = v / 8;
+    const double   fine = (i < 3 && k == 0) ? mu[i + 3 * j] : 0.0;
+    const double   r = fine - coarse.GetMuBuffer()[i / 2];
+    const bool     negative = (split->GetNegativeVoxels()[v >> 6] >> (v & 63)) & 1u;
+    EXPECT_NEAR(negative ? -residual.GetMuBuffer()[v] : residual.GetMuBuffer()[v], r, 1e-7) << "voxel " << v;
+    sumOfMagnitudes += std::abs(r);
+  }
+  EXPECT_NEAR(split->GetResidualMass(), sumOfMagnitudes, 1e-6);
+  EXPECT_NEAR(split->GetTotalMass(), 2.3, 1e-6);
+  EXPECT_NE(ExceptionMessage([&] { split->Build(*volume, 1, nullptr); }, "factor 1"), "");
+}
+
+TEST(DRRControlVariate, RefusesTheTentKernelThePaperCountAndFactorOne)
+{
+  const auto volume = MakeMuVolume({ { 4, 4, 4 } }, 0.02f);
+  auto       filter = MakeFilter(volume, AlignedParallelGeometry(6, 6, Pt(1.5, 1.5, 1.5)), 2);
+  filter->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Tent);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { filter->Update(); }, "tent"), "needs the box kernel"));
+  filter->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Box);
+  filter->SetPointWeighting(itk::PointBasedDRREnums::PointWeighting::PaperCount);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { filter->Update(); }, "paper count"), "unbiased point weighting"));
+  filter->SetPointWeighting(itk::PointBasedDRREnums::PointWeighting::Unbiased);
+  filter->SetControlVariateFactor(1);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { filter->Update(); }, "factor 1"), "ControlVariateFactor 1"));
+  filter->SetControlVariateFactor(FilterType::AutomaticControlVariateFactor);
+  EXPECT_NO_THROW(filter->Update());
+  EXPECT_GE(filter->GetControlVariate()->GetFactor(), 2u);
+}
+} // namespace
