@@ -356,8 +356,9 @@ CheckUnbiased(const Scenario & scenario)
     }
     pixelsWithConvergedReference += referenceError[p] < 0.5 * standardErrorOfMean ? 1 : 0;
     // A control variate's coarse rays rarely graze a sliver of a padded coarse box at the edge of the shadow: there
-    // its estimate is unbiased but so skewed that 64 seeds see no normal mean. 1e-4 of the peak absorbs that; a wrong
-    // sign or block mean is off by percents of the peak.
+    // its estimate is unbiased but so skewed that 64 seeds see no normal mean. 1e-4 of the peak absorbs that; a dropped
+    // sign or unjittered coarse rays are off by percents of the peak (z of 50 to 460; a wrong block mean is no bias
+    // as long as the residual is taken against it: DRRControlVariate.SplitsIntoBlockMeansAndASignedResidual).
     const double skewFloor = scenario.controlVariate > 0 ? 1e-4 * peak : 0.0;
     const double z =
       std::abs(stats.Mean[p] - reference[p]) / std::sqrt(standardErrorOfMean * standardErrorOfMean +
