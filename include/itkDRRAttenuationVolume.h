@@ -275,6 +275,12 @@ private:
   /** Throws for a failed voxel (Failure::Voxel < number of voxels). */
   void
   ThrowFailure(const Failure & failure) const;
+  /** Ends a build of mu per voxel from the per-block checks and extremes of its fill: throws for the first failed
+   * voxel (emptying the volume), else keeps the extremes and marks mu ready. */
+  void
+  FinishMu(const std::vector<Failure> & failures,
+           const std::vector<float> &   smallest,
+           const std::vector<float> &   largest);
   /** Fills mu from the levels, once. */
   const float *
   MaterializeMu() const;

@@ -405,17 +405,7 @@ DRRAttenuationVolume::BuildMu(const TValue * values, const DRRTransferFunction &
       largest[b] = blockLargest;
     },
     threader);
-  for (const Failure & failure : failures)
-  {
-    if (failure.Voxel < numberOfVoxels)
-    {
-      this->Reset(m_Size);
-      this->ThrowFailure(failure);
-    }
-  }
-  m_LargestMu = *std::max_element(largest.begin(), largest.end());
-  m_SmallestPositiveMu = m_LargestMu > 0.0f ? *std::min_element(smallest.begin(), smallest.end()) : 0.0f;
-  m_MuReady.store(true, std::memory_order_release);
+  this->FinishMu(failures, smallest, largest);
 }
 } // namespace itk
 

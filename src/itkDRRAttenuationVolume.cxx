@@ -204,21 +204,29 @@ DRRAttenuationVolume::BuildFromMu(const SizeType & size, const MuFunctionType & 
       largest[b] = blockLargest;
     },
     threader);
+  this->FinishMu(failures, smallest, largest);
+  this->Modified();
+}
+
+void
+DRRAttenuationVolume::FinishMu(const std::vector<Failure> & failures,
+                               const std::vector<float> &   smallest,
+                               const std::vector<float> &   largest)
+{
   for (const Failure & failure : failures)
   {
-    if (failure.Voxel < numberOfVoxels)
+    if (failure.Voxel < this->GetNumberOfVoxels())
     {
       this->Reset(m_Size);
       this->ThrowFailure(failure);
     }
   }
-  if (numberOfVoxels > 0)
+  if (!largest.empty())
   {
     m_LargestMu = *std::max_element(largest.begin(), largest.end());
     m_SmallestPositiveMu = m_LargestMu > 0.0f ? *std::min_element(smallest.begin(), smallest.end()) : 0.0f;
   }
   m_MuReady.store(true, std::memory_order_release);
-  this->Modified();
 }
 
 void
