@@ -121,8 +121,9 @@ public:
                  ProcessObject *            progressFilter,
                  DRRPointRenderer::Result & result) const;
 
-  /** The factor `auto` picks for a volume and a view: the largest power of two (2 to 8) at which a coarse voxel is no
-   * wider than the footprint of a detector pixel at the volume's centre (see docs/design.md, section 10). */
+  /** The factor `auto` picks for a volume and a view: the largest power of two (2 to 8) at which a coarse voxel is at
+   * most half as wide as the footprint of a detector pixel at the volume's centre, and 2 when none is (see
+   * docs/design.md, section 10). */
   static unsigned int
   ChooseFactor(const DRRAttenuationVolume & volume, const DRRPointProjection & projection);
 
