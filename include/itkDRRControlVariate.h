@@ -33,14 +33,15 @@ namespace itk
  * mu_c is the volume coarsened by a factor F per axis: block means of F^3 voxels, the volume padded with air to a
  * multiple of F, so a coarse voxel is the box of its F^3 fine voxels. r = mu - mu_c is piecewise constant on the fine
  * voxels of the padded grid (the padding holds r = -mu_c). For every pixel L[mu] = L[mu_c] + L[r]:
- * - the coarse image L[mu_c] is integrated exactly (Siddon) along rays jittered in the strata of the splat's footprint
- *   (AddCoarseImage()), so that it estimates the same pixel average as the points, without bias;
+ * - the coarse image L[mu_c] is integrated exactly (Siddon) along antithetic ray pairs in the strata of the splat's
+ * footprint (AddCoarseImage()), so that it estimates the same pixel average as the points, without bias;
  * - the residual is sampled by points with density |r| / M_r (M_r = sum |r_v| V, GetResidualMass()), each carrying
  *   the sign of its voxel's r: any sampler initialized on GetResidualVolume() (|r| per voxel) draws them, and the
  *   renderer flips the weight of a point drawn in a voxel of GetNegativeVoxels() (DRRPointRenderer::Settings).
  *
  * At equal N the residual's error scales by M_r / M against plain sampling, where the coarse image explains most of
- * the mass; the coarse image costs 2 raysPerSide^2 rays per pixel through F^3 fewer voxels.
+ * the mass; the coarse image costs 4 raysPerSide^2 rays per pixel (two replicates of raysPerSide^2 antithetic pairs)
+ * through F^3 fewer voxels.
  *
  * Tables: |r| per voxel of the padded grid (4 bytes), the sign of r (1 bit), the coarse volume (4 / F^3 bytes).
  *

@@ -38,7 +38,7 @@ namespace itk
  *
  * A pixel value is the average of k x k rays through the centres of a regular k x k subdivision of the pixel (the
  * midpoint rule for the pixel-area average; exact in the limit, and for k = 1 the classic one ray per pixel).
- * RenderFootprintAverages() instead draws the rays jittered in the strata of the splat's footprint: an unbiased
+ * RenderFootprintAverages() instead draws antithetic ray pairs in the strata of the splat's footprint: an unbiased
  * estimate of the pixel average a point render estimates, with its standard error (DESIGN 10, the control variate).
  *
  * A coarse volume whose voxel c is the box of the F^3 voxels F c .. F c + F - 1 of a finer grid (DRRControlVariate)
@@ -81,8 +81,9 @@ public:
 
   /** Unbiased estimates of every pixel's footprint average of the line integral, (1 / a) * integral of share(x) L(x)
    * dx over the detector, with share the splat's (DRRNearestSplat::FootprintOffset()): two independent replicates of
-   * raysPerSide^2 rays per pixel, each ray jittered in its cell of a regular raysPerSide x raysPerSide stratification
-   * of the footprint's distribution, drawn from the streams of seed (the same bits on any number of threads).
+   * raysPerSide^2 antithetic ray pairs per pixel, one pair per cell of a regular raysPerSide x raysPerSide
+   * stratification of the footprint's distribution (a ray jittered in its cell and its mirror through the cell's
+   * centre), drawn from the streams of seed (the same bits on any number of threads).
    * standardError: half the replicates' difference, an unbiased estimate of the variance of their mean (one degree
    * of freedom per pixel; a stratified sample's variance has no unbiased estimate from one replicate, and the spread
    * of its rays overstates it, 2 to 4 times on the test phantoms). cols x rows, columns fastest, on the threads of

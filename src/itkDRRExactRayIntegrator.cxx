@@ -297,7 +297,7 @@ DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projec
   const unsigned int rows = projection.GetNumberOfRows();
   image.assign(static_cast<size_t>(columns) * rows, 0.0);
   standardError.assign(image.size(), 0.0);
-  const double raysPerReplicate = static_cast<double>(raysPerSide) * raysPerSide;
+  const double raysPerReplicate = 2.0 * raysPerSide * raysPerSide; // antithetic pairs
   const double inverseRays = 1.0 / static_cast<double>(raysPerSide);
   DRRPolicies::Splats::Visit(splat, [&](auto policy) {
     using SplatType = decltype(policy);
@@ -317,12 +317,21 @@ DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projec
             {
               for (unsigned int su = 0; su < raysPerSide; ++su)
               {
+                // An antithetic pair: the ray jittered in its stratum and its mirror through the stratum's centre.
+                // Each is distributed as the footprint (FootprintOffset maps uniform to it), so their mean is
+                // unbiased; the mirror cancels the linear part of L across the stratum, which dominates the spread of
+                // a lone jittered ray (DESIGN 10; docs/design.md, "the coarse image").
                 const DRRPhiloxRandom::BlockType bits = stream.Next();
-                const double                     u = (su + DRRPhiloxRandom::ToUnitInterval(bits[0])) * inverseRays;
-                const double                     v = (sv + DRRPhiloxRandom::ToUnitInterval(bits[1])) * inverseRays;
-                sum += this->IntegrateRay(projection,
-                                          static_cast<double>(column) + SplatType::FootprintOffset(u),
-                                          static_cast<double>(row) + SplatType::FootprintOffset(v));
+                const double                     ju = DRRPhiloxRandom::ToUnitInterval(bits[0]);
+                const double                     jv = DRRPhiloxRandom::ToUnitInterval(bits[1]);
+                sum +=
+                  this->IntegrateRay(projection,
+                                     static_cast<double>(column) + SplatType::FootprintOffset((su + ju) * inverseRays),
+                                     static_cast<double>(row) + SplatType::FootprintOffset((sv + jv) * inverseRays));
+                sum += this->IntegrateRay(
+                  projection,
+                  static_cast<double>(column) + SplatType::FootprintOffset((su + 1.0 - ju) * inverseRays),
+                  static_cast<double>(row) + SplatType::FootprintOffset((sv + 1.0 - jv) * inverseRays));
               }
             }
             mean = sum / raysPerReplicate;

@@ -545,8 +545,8 @@ Run(const Options & options)
       {
         std::cerr << "pbdrr: control variate F " << split->GetFactor() << ": residual mass M_r "
                   << split->GetResidualMass() << " mm^2, M_r / M " << split->GetResidualMass() / split->GetTotalMass()
-                  << ", coarse image 2 x " << options.raysPerSide << " x " << options.raysPerSide << " rays per pixel"
-                  << std::endl;
+                  << ", coarse image 2 x " << options.raysPerSide << " x " << options.raysPerSide
+                  << " antithetic ray pairs per pixel" << std::endl;
       }
       const std::string statistics = pointBased->GetSampler()->GetStatisticsSummary();
       if (!statistics.empty())

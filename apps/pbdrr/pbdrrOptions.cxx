@@ -429,7 +429,7 @@ Rendering:
   --exact NAME           render with an exact projector instead of points, no noise:
 )" + ExactReferenceLines() +
          R"(  --ss K                 with --exact: K x K rays per pixel (default 1); with --control-variate: two
-                         replicates of K x K jittered rays per pixel for the coarse image
+                         replicates of K x K antithetic ray pairs per pixel for the coarse image
 
 Physics:
   --input-units hu|mu    voxels in Hounsfield units (default) or linear attenuation in 1/mm
