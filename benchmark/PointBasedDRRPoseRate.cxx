@@ -24,7 +24,10 @@
 //
 //   PointBasedDRRPoseRate INPUT [--sizes 128,256] [--field-mm 614.4] [--samples 1e6,3e6,1e7] [--poses 20]
 //                         [--error-poses 3] [--reference-rays 4] [--sampler stratified] [--splat bilinear]
-//                         [--kernel box] [--gantry 90] [--ray-caster-poses 3] [--markdown FILE]
+//                         [--kernel box] [--gantry 90] [--ray-caster-poses 3] [--control-variate 0,2,8]
+//                         [--markdown FILE]
+// --control-variate: coarsening factors F of the control variate, 0 for off (default 0): the residual's points are
+// kept, the coarse image is traced again at every pose (DESIGN 10).
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRRSamplerFactory.h"
@@ -69,6 +72,7 @@ struct Options
   SplatEnum             Splat{ SplatEnum::Bilinear };
   KernelEnum            Kernel{ KernelEnum::Box };
   double                Gantry{ 90.0 };
+  std::vector<unsigned> ControlVariates{ 0 }; // coarsening factors F (0: off), each a row per size and samples
 };
 
 Options
@@ -113,6 +117,12 @@ Parse(int argc, char * argv[])
       options.Kernel = value() == "tent" ? KernelEnum::Tent : KernelEnum::Box;
     else if (arg == "--gantry")
       options.Gantry = std::stod(value());
+    else if (arg == "--control-variate")
+    {
+      options.ControlVariates.clear();
+      for (const auto & s : pbdrr::bench::SplitList(value(), true))
+        options.ControlVariates.push_back(static_cast<unsigned>(std::stoul(s)));
+    }
     else if (arg == "--markdown")
       options.Markdown = value();
     else if (!arg.empty() && arg[0] == '-')
@@ -196,8 +206,9 @@ public:
       this->References(geometry);
       if (m_Options.RayCasterPoses > 0)
         this->RayCaster(geometry, size);
-      for (double samples : m_Options.Samples)
-        this->PointBased(geometry, size, samples);
+      for (unsigned controlVariate : m_Options.ControlVariates)
+        for (double samples : m_Options.Samples)
+          this->PointBased(geometry, size, samples, controlVariate);
     }
     this->Report();
     return 0;
@@ -261,7 +272,7 @@ private:
   }
 
   void
-  PointBased(itk::DRRProjectionGeometry * geometry, unsigned size, double samples)
+  PointBased(itk::DRRProjectionGeometry * geometry, unsigned size, double samples, unsigned controlVariate)
   {
     auto drr = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::New();
     drr->SetInput(m_Volume);
@@ -272,6 +283,7 @@ private:
     drr->SetNumberOfSamples(static_cast<uint64_t>(samples));
     drr->SetSeed(1);
     drr->SetReusePoints(true);
+    drr->SetControlVariateFactor(controlVariate);
     drr->PrepareSampling(); // tables: once per volume, not part of the per-pose cost
     auto transform = this->MakeTransform(m_Poses[0]);
     drr->SetTransform(transform);
@@ -282,7 +294,8 @@ private:
     this->TimePoses(transform, drr.GetPointer(), m_Options.Poses, row);
     if (drr->GetNumberOfPointCloudDraws() != 1)
       throw std::runtime_error("the points were drawn more than once");
-    row.Method = "PBDRR " + m_Options.Sampler + " re-projected";
+    row.Method = "PBDRR " + m_Options.Sampler + (controlVariate > 0 ? " cv" + std::to_string(controlVariate) : "") +
+                 " re-projected";
     row.Size = size;
     row.Samples = samples;
     row.BytesPerPoint = drr->GetPointCloud()->GetBytesPerPoint();

@@ -22,19 +22,20 @@ fi
 DEFAULT_SETTINGS="exact 1x1|--exact siddon --ss 1
 exact 2x2|--exact siddon --ss 2
 exact 4x4|--exact siddon --ss 4
-stratified 1e7|--sampler stratified --samples 1e7
-stratified 1e8|--sampler stratified --samples 1e8"
+stratified 1e7|--control-variate off --sampler stratified --samples 1e7
+stratified 1e8|--control-variate off --sampler stratified --samples 1e8"
 for f in 2 4 8; do
-  for n in 1e6 1e7 3e7 1e8; do
+  for n in 1e6 1e7 1e8; do
     DEFAULT_SETTINGS="$DEFAULT_SETTINGS
 cv$f stratified $n|--control-variate $f --sampler stratified --samples $n"
   done
   DEFAULT_SETTINGS="$DEFAULT_SETTINGS
+cv$f ss2 stratified 1e8|--control-variate $f --ss 2 --sampler stratified --samples 1e8
 cv$f level-alias 1e7|--control-variate $f --sampler level-alias --samples 1e7"
 done
 DEFAULT_SETTINGS="$DEFAULT_SETTINGS
-cv auto stratified 1e7|--control-variate auto --sampler stratified --samples 1e7
-plain level-alias 1e7|--sampler level-alias --samples 1e7"
+pbdrr defaults|
+plain level-alias 1e7|--control-variate off --sampler level-alias --samples 1e7"
 SETTINGS=${SETTINGS:-$DEFAULT_SETTINGS}
 
 # shellcheck disable=SC2086

@@ -122,7 +122,8 @@ public:
   ///@}
 
   ///@{
-  /** The sampler policy. Default: DRRLevelAliasSampler (exact importance sampling by attenuation level).
+  /** The sampler policy. Default: DRRSamplerFactory::DefaultName, DRRStratifiedSampler (systematic along a Morton
+   * curve of the mass, culled to the view: the least error for the time, docs/performance.md).
    * \sa DRRSamplerFactory */
   itkSetObjectMacro(Sampler, SamplerType);
   itkGetModifiableObjectMacro(Sampler, SamplerType);

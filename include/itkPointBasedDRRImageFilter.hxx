@@ -19,13 +19,13 @@
 #define itkPointBasedDRRImageFilter_hxx
 
 #include "itkPointBasedDRRImageFilter.h"
-#include "itkDRRLevelAliasSampler.h"
+#include "itkDRRSamplerFactory.h"
 
 namespace itk
 {
 template <typename TInputImage, typename TOutputImage>
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::PointBasedDRRImageFilter()
-  : m_Sampler(DRRLevelAliasSampler::New().GetPointer())
+  : m_Sampler(DRRSamplerFactory::Create(DRRSamplerFactory::DefaultName))
 {
   this->SetNumberOfRequiredOutputs(2);
   this->SetNthOutput(1, this->MakeOutput(1));

@@ -252,7 +252,12 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--threads", { 1, [&](const auto & v) { options.threads = WholeNumber(v[0], "--threads", 1, 1024); } } },
     { "--paper-count", { 0, [&](const auto &) { options.paperCount = true; } } },
     { "--strata", { 1, [&](const auto & v) { options.strata = WholeNumber(v[0], "--strata", 2, 256); } } },
-    { "--control-variate", { 1, [&](const auto & v) { options.controlVariate = ControlVariateFactor(v[0]); } } },
+    { "--control-variate",
+      { 1,
+        [&](const auto & v) {
+          options.controlVariate = ControlVariateFactor(v[0]);
+          options.controlVariateGiven = true;
+        } } },
     { "--input-units",
       { 1,
         [&](const auto & v) {
@@ -325,6 +330,12 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   {
     throw UsageError("--paper-count applies to point sampling, not to --exact");
   }
+  const bool controlVariateApplies =
+    !options.exact && !options.paperCount && options.kernel == itk::PointBasedDRREnums::ReconstructionKernel::Box;
+  if (options.controlVariate > 0 && !options.controlVariateGiven && !controlVariateApplies)
+  {
+    options.controlVariate = 0; // the default auto: off where it does not apply
+  }
   if (options.controlVariate > 0)
   {
     if (options.exact)
@@ -345,11 +356,14 @@ ParseCommandLine(const std::vector<std::string> & arguments)
 
 namespace
 {
-/** The help's entry of one kind of policy: the option, what it chooses and its default (the first registered), then
- * a line per name with its description. */
+/** The help's entry of one kind of policy: the option, what it chooses and its default (Options' own), then a line
+ * per name with its description. */
 template <typename TEntries>
 std::string
-PolicyLines(const std::string & option, const std::string & what, const TEntries & entries)
+PolicyLines(const std::string & option,
+            const std::string & what,
+            const TEntries &    entries,
+            const std::string & defaultName)
 {
   size_t width = 0;
   for (const auto & entry : entries)
@@ -357,8 +371,7 @@ PolicyLines(const std::string & option, const std::string & what, const TEntries
     width = std::max(width, entry.Name.size());
   }
   std::ostringstream lines;
-  lines << "  " << option << std::string(23 - option.size(), ' ') << what << " (default " << entries.front().Name
-        << "):\n";
+  lines << "  " << option << std::string(23 - option.size(), ' ') << what << " (default " << defaultName << "):\n";
   for (const auto & entry : entries)
   {
     lines << "                           " << entry.Name << std::string(width + 2 - entry.Name.size(), ' ')
@@ -386,6 +399,7 @@ ExactReferenceLines()
 std::string
 HelpText()
 {
+  const Options defaults;
   return std::string(
            R"(pbdrr - digitally reconstructed radiographs by unbiased Monte Carlo point sampling (PointBasedDRR)
 
@@ -413,15 +427,21 @@ Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = 
 Rendering:
   --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default )" +
            std::to_string(itk::DRRPointRenderer::DefaultNumberOfSamples / 1000000) + R"(M)
-)") + PolicyLines("--sampler NAME", "how points are drawn", itk::DRRSamplerFactory::GetEntries()) +
-         PolicyLines("--kernel NAME", "where in its voxel a point goes", itk::DRRPolicies::Kernels::GetEntries()) +
-         PolicyLines("--splat NAME", "how a point lands on the detector", itk::DRRPolicies::Splats::GetEntries()) +
+)") + PolicyLines("--sampler NAME", "how points are drawn", itk::DRRSamplerFactory::GetEntries(), defaults.sampler) +
+         PolicyLines("--kernel NAME",
+                     "where in its voxel a point goes",
+                     itk::DRRPolicies::Kernels::GetEntries(),
+                     itk::DRRPolicies::Kernels::GetName(defaults.kernel)) +
+         PolicyLines("--splat NAME",
+                     "how a point lands on the detector",
+                     itk::DRRPolicies::Splats::GetEntries(),
+                     itk::DRRPolicies::Splats::GetName(defaults.splat)) +
          R"(  --strata R             independent strata for stratified/metropolis (default: 4 and 16): fewer, less error;
                          more, a steadier standard-error image
   --control-variate F|auto|off
                          exact coarse image (block means of F^3 voxels, Siddon) plus points for the signed residual
                          only: the same expectation, error about M_r / M of plain sampling; auto picks F for the
-                         view (default off); box kernel only
+                         view (default auto: on for box-kernel point renders, off where it does not apply)
   --seed S               random seed (default 0): the same seed gives the same image on any thread count
   --threads T            worker threads (default: all cores)
   --paper-count          count points unweighted, as the paper does (biased in perspective, and for

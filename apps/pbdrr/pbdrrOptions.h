@@ -18,6 +18,8 @@
 #ifndef pbdrrOptions_h
 #define pbdrrOptions_h
 
+#include "itkDRRControlVariate.h"
+#include "itkDRRSamplerFactory.h"
 #include "itkDRRPointRenderer.h"
 #include "itkPointBasedDRREnums.h"
 
@@ -58,15 +60,18 @@ struct Options
   bool                                 parallel{ false };
 
   uint64_t                                      samples{ itk::DRRPointRenderer::DefaultNumberOfSamples };
-  std::string                                   sampler{ "level-alias" };
+  std::string                                   sampler{ itk::DRRSamplerFactory::DefaultName };
   itk::PointBasedDRREnums::ReconstructionKernel kernel{ itk::PointBasedDRREnums::ReconstructionKernel::Box };
   itk::PointBasedDRREnums::Splat                splat{ itk::PointBasedDRREnums::Splat::Nearest };
   uint64_t                                      seed{ 0 };
   unsigned                                      threads{ 0 }; // 0: all
   bool                                          paperCount{ false };
   unsigned                                      strata{ 0 }; // 0: the sampler's preference
-  /** --control-variate: the coarsening factor F (0: off; the filter's AutomaticControlVariateFactor: auto). */
-  unsigned controlVariate{ 0 };
+  /** --control-variate: the coarsening factor F (0: off; the filter's AutomaticControlVariateFactor: auto, the
+   * default, which is off where the control variate does not apply: --exact, --paper-count, a kernel other than box).
+   */
+  unsigned controlVariate{ itk::DRRControlVariate::AutomaticFactor };
+  bool     controlVariateGiven{ false }; // --control-variate on the command line: refuse, not drop, where it cannot be
 
   std::string                          inputUnits{ "hu" };
   std::optional<double>                energyKeV;

@@ -23,6 +23,7 @@
 
 #include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
+#include "itkPointBasedDRRImageFilter.h"
 
 #include <gtest/gtest.h>
 
@@ -225,12 +226,36 @@ TEST(PolicyRegistry, KernelsAndSplatsAreInTheFuzzDictionaryAndTheReadme)
   }
 }
 
-TEST(PolicyRegistry, TheFirstRegisteredIsTheDefaultEverywhere)
+TEST(PolicyRegistry, TheDefaultsAreTheSameEverywhere)
 {
   const pbdrr::Options defaults;
   EXPECT_EQ(defaults.kernel, itk::DRRPolicies::Kernels::GetEntries().front().Id);
   EXPECT_EQ(defaults.splat, itk::DRRPolicies::Splats::GetEntries().front().Id);
-  EXPECT_EQ(defaults.sampler, itk::DRRSamplerFactory::GetEntries().front().Name);
+  EXPECT_EQ(defaults.sampler, itk::DRRSamplerFactory::DefaultName);
+  using FilterType = itk::PointBasedDRRImageFilter<itk::Image<float, 3>, itk::Image<float, 2>>;
+  EXPECT_STREQ(FilterType::New()->GetSampler()->GetNameOfClass(),
+               itk::DRRSamplerFactory::Create(itk::DRRSamplerFactory::DefaultName)->GetNameOfClass());
   EXPECT_FALSE(defaults.parallel);
   EXPECT_EQ(itk::DRRPolicies::Beams::GetEntries().front().Id, itk::PointBasedDRREnums::Projection::Perspective);
+}
+
+TEST(PolicyRegistry, TheDefaultControlVariateIsAutoWhereItAppliesAndOffElsewhere)
+{
+  const auto parsed = [](std::vector<std::string> extra) {
+    std::vector<std::string> arguments{ "in.mha", "-o", "out.mha" };
+    arguments.insert(arguments.end(), extra.begin(), extra.end());
+    return pbdrr::ParseCommandLine(arguments).controlVariate;
+  };
+  EXPECT_EQ(parsed({}), itk::DRRControlVariate::AutomaticFactor);
+  EXPECT_EQ(parsed({ "--sampler", "level-alias" }), itk::DRRControlVariate::AutomaticFactor);
+  EXPECT_EQ(parsed({ "--control-variate", "off" }), 0u);
+  // The default drops out where the control variate does not apply...
+  EXPECT_EQ(parsed({ "--exact", "siddon" }), 0u);
+  EXPECT_EQ(parsed({ "--kernel", "tent" }), 0u);
+  EXPECT_EQ(parsed({ "--paper-count" }), 0u);
+  // ...but an explicit request there is refused, auto as well as a factor.
+  EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--control-variate", "auto", "--exact", "siddon" }),
+            "--control-variate applies to point sampling, not to --exact");
+  EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--control-variate", "auto", "--kernel", "tent" }),
+            "--control-variate needs --kernel box (its coarse image is the box model's)");
 }
