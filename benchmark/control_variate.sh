@@ -15,6 +15,7 @@ PBDRR=${2:-$(dirname "$0")/../build/apps/pbdrr/pbdrr}
 RUNS=${3:-3}
 VIEW=${VIEW:---gantry 90 --size 256 256 --spacing 2.4 2.4}
 OUT=${OUT:-$(mktemp -d)}
+mkdir -p "$OUT"
 if [ ! -e "$CT" ]; then
   echo "control_variate.sh: $CT not found (give a CT as the first argument)" >&2
   exit 2

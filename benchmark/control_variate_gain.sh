@@ -19,6 +19,7 @@ VIEW=${VIEW:---gantry 90 --size 256 256 --spacing 2.4 2.4}
 SAMPLES=${SAMPLES:-1e6 1e7}
 SAMPLER=${SAMPLER:-stratified}
 OUT=${OUT:-$(mktemp -d)}
+mkdir -p "$OUT"
 if [ ! -e "$CT" ]; then
   echo "control_variate_gain.sh: $CT not found (give a CT as the first argument)" >&2
   exit 2

@@ -27,6 +27,7 @@
 // ITK's classic framework, which keeps the ray caster's timing fair, and the synthetic target has the DRRs' units.
 //
 //   Register2D3D CT|--phantom [--drr pbdrr|raycast] [--views 1|2] [--size 128] [--pixel-mm MM] [--samples 2e6]
+//                [--control-variate F]
 //                [--start tx,ty,tz,rx,ry,rz | --random-start SEED] [--max-translation 10] [--max-rotation 5]
 //                [--max-tre MM] [--iterations 6] [--threads N]
 //                [--fixed AP.mha --focal x,y,z [--fixed LAT.mha --focal x,y,z]]
@@ -86,6 +87,7 @@ struct Options
   bool                     Phantom{ false };
   std::string              Drr{ "pbdrr" };
   unsigned                 Views{ 2 }, Size{ 128 }, Iterations{ 6 }, Threads{ 0 };
+  unsigned                 ControlVariate{ 0 }; // PBDRR: coarsening factor F (0: off); box kernel then
   double                   PixelMillimetres{ 0.0 }, Samples{ 2e6 }, MaxTranslation{ 10.0 }, MaxRotation{ 5.0 };
   double                   MaxTre{ -1.0 };
   std::vector<double>      Start;
@@ -136,6 +138,8 @@ ParseOptions(int argc, char * argv[])
       options.PixelMillimetres = std::stod(value());
     else if (arg == "--samples")
       options.Samples = std::stod(value());
+    else if (arg == "--control-variate")
+      options.ControlVariate = static_cast<unsigned>(std::stoul(value()));
     else if (arg == "--start")
       options.Start = ParseList(value(), 6, "--start");
     else if (arg == "--random-start")
@@ -450,6 +454,12 @@ Register(const MuImageType * mu, const std::vector<View> & views, const Options 
       if (interpolators.empty())
       {
         interpolator->GetDRRFilter()->SetNumberOfSamples(static_cast<uint64_t>(options.Samples));
+        if (options.ControlVariate > 0)
+        {
+          // The control variate is built for the box model: an exact coarse image per pose plus the kept residual.
+          interpolator->GetDRRFilter()->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Box);
+          interpolator->GetDRRFilter()->SetControlVariateFactor(options.ControlVariate);
+        }
       }
       else
       {

@@ -99,6 +99,16 @@ public:
                           std::vector<double> &      standardError) const;
 
 private:
+  /** Siddon's traversal of the box model from the entry cell to tExit (the cursors of IntegrateSegment()): the
+   * integral of mu over the segment's parameter. */
+  double
+  TraverseBox(const int64_t cell[3],
+              const int64_t step[3],
+              const double  tNext[3],
+              const double  tDelta[3],
+              double        tEnter,
+              double        tExit) const;
+
   /** The ray's segment through the model's support (continuous indices of the volume's own grid); returns its
    * length, mm. */
   double

@@ -72,6 +72,72 @@ DRRExactRayIntegrator::Trilinear(const int64_t corner[3], const double fraction[
 }
 
 double
+DRRExactRayIntegrator::TraverseBox(const int64_t cell[3],
+                                   const int64_t step[3],
+                                   const double  tNext[3],
+                                   const double  tDelta[3],
+                                   double        tEnter,
+                                   double        tExit) const
+{
+  // The traversal of IntegrateSegment(), specialised for the box model: the cursors live in scalars (an
+  // array indexed by the axis goes through memory at every step), the voxel's offset is updated by a stride, and each
+  // axis counts the planes left before the grid's end instead of testing the cell against both bounds. The same
+  // operations in the same order on the same values: the same bits as the general loop.
+  const int64_t nx = static_cast<int64_t>(m_Volume.GetSize()[0]);
+  const int64_t nxy = nx * static_cast<int64_t>(m_Volume.GetSize()[1]);
+  const float * mu = m_Volume.GetMuBuffer();
+  int64_t       voxel = cell[0] + nx * cell[1] + nxy * cell[2]; // the last step may leave the grid: never read then
+  const int64_t stride0 = step[0];
+  const int64_t stride1 = step[1] * nx;
+  const int64_t stride2 = step[2] * nxy;
+  // Planes left along each axis before the ray leaves the grid (an axis the ray does not cross is never chosen).
+  int64_t left0 = step[0] > 0 ? m_NumberOfCells[0] - cell[0] : cell[0] + 1;
+  int64_t left1 = step[1] > 0 ? m_NumberOfCells[1] - cell[1] : cell[1] + 1;
+  int64_t left2 = step[2] > 0 ? m_NumberOfCells[2] - cell[2] : cell[2] + 1;
+  double  next0 = tNext[0], next1 = tNext[1], next2 = tNext[2];
+  double  integral = 0.0;
+  double  t = tEnter;
+  while (t < tExit)
+  {
+    const unsigned int axis = next0 < next1 ? (next0 < next2 ? 0 : 2) : (next1 < next2 ? 1 : 2);
+    const double       tEnd = std::min(axis == 0 ? next0 : (axis == 1 ? next1 : next2), tExit);
+    if (tEnd > t)
+    {
+      integral += (tEnd - t) * mu[voxel];
+    }
+    t = tEnd;
+    if (axis == 0)
+    {
+      next0 += tDelta[0];
+      voxel += stride0;
+      if (--left0 == 0)
+      {
+        break;
+      }
+    }
+    else if (axis == 1)
+    {
+      next1 += tDelta[1];
+      voxel += stride1;
+      if (--left1 == 0)
+      {
+        break;
+      }
+    }
+    else
+    {
+      next2 += tDelta[2];
+      voxel += stride2;
+      if (--left2 == 0)
+      {
+        break;
+      }
+    }
+  }
+  return integral;
+}
+
+double
 DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) const
 {
   double d[3];
@@ -133,42 +199,35 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) 
     }
   }
 
-  const uint64_t nx = m_Volume.GetSize()[0];
-  const uint64_t nxy = nx * m_Volume.GetSize()[1];
-  const float *  mu = m_Volume.GetMuBuffer();
-  const double   gaussOffset = 0.5 / std::sqrt(3.0);
-  double         integral = 0.0;
-  double         t = tEnter;
+  if (m_Siddon)
+  {
+    return this->TraverseBox(cell, step, tNext, tDelta, tEnter, tExit);
+  }
+  const double gaussOffset = 0.5 / std::sqrt(3.0);
+  double       integral = 0.0;
+  double       t = tEnter;
   while (t < tExit)
   {
     const unsigned int axis = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
     const double       tEnd = std::min(tNext[axis], tExit);
     if (tEnd > t)
     {
-      if (m_Siddon)
+      const int64_t corner[3] = { cell[0] - 1, cell[1] - 1, cell[2] - 1 };
+      const double  length = tEnd - t;
+      const double  middle = 0.5 * (t + tEnd);
+      for (double node : { middle - gaussOffset * length, middle + gaussOffset * length })
       {
-        integral += (tEnd - t) * mu[static_cast<uint64_t>(cell[0]) + nx * static_cast<uint64_t>(cell[1]) +
-                                    nxy * static_cast<uint64_t>(cell[2])];
-      }
-      else
-      {
-        const int64_t corner[3] = { cell[0] - 1, cell[1] - 1, cell[2] - 1 };
-        const double  length = tEnd - t;
-        const double  middle = 0.5 * (t + tEnd);
-        for (double node : { middle - gaussOffset * length, middle + gaussOffset * length })
+        // The node lies in this cell, but its position, rounded apart from the traversal's, can fall outside the
+        // cell by a few ulps (a ray on a plane of the dual grid: through voxel centres): a fraction of -1e-16 gives
+        // a negative weight, and a neighbour of mu 1e25 /mm a negative integral. Clamped to the cell, the weights
+        // stay a convex combination of the corners' mu, so the integrand is never negative; the ray moves by
+        // rounding only, and a fraction within [0, 1] is unchanged.
+        double fraction[3];
+        for (unsigned int a = 0; a < 3; ++a)
         {
-          // The node lies in this cell, but its position, rounded apart from the traversal's, can fall outside the
-          // cell by a few ulps (a ray on a plane of the dual grid: through voxel centres): a fraction of -1e-16 gives
-          // a negative weight, and a neighbour of mu 1e25 /mm a negative integral. Clamped to the cell, the weights
-          // stay a convex combination of the corners' mu, so the integrand is never negative; the ray moves by
-          // rounding only, and a fraction within [0, 1] is unchanged.
-          double fraction[3];
-          for (unsigned int a = 0; a < 3; ++a)
-          {
-            fraction[a] = std::min(std::max(p0[a] + node * d[a] - static_cast<double>(corner[a]), 0.0), 1.0);
-          }
-          integral += 0.5 * length * this->Trilinear(corner, fraction);
+          fraction[a] = std::min(std::max(p0[a] + node * d[a] - static_cast<double>(corner[a]), 0.0), 1.0);
         }
+        integral += 0.5 * length * this->Trilinear(corner, fraction);
       }
     }
     t = tEnd;
