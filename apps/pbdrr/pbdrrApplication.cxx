@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrApplication.h"
+#include "pbdrrMessages.h"
 #include "pbdrrVolumeLoader.h"
 
 #include "itkCommand.h"
@@ -124,8 +125,11 @@ MakeGeometry(const Options & options, const VolumeType * volume)
   auto geometry = itk::DRRProjectionGeometry::New();
   geometry->SetDetectorSize({ { 512, 512 } });
   geometry->SetDetectorSpacing(itk::Vector<double, 2>(1.2));
-  // Default isocenter: the centre of the volume's bounding box (voxel centres).
-  geometry->SetIsocenterToImageCenter(volume);
+  // Default isocenter: the centre of the volume's bounding box (voxel centres); the room origin before the load.
+  if (volume)
+  {
+    geometry->SetIsocenterToImageCenter(volume);
+  }
   if (!options.geometryFile.empty())
   {
     geometry->ReadGeometryFile(options.geometryFile);
@@ -188,6 +192,16 @@ MakeGeometry(const Options & options, const VolumeType * volume)
     geometry->SetDetectorOffset(vector2(*options.detectorOffset));
   }
   geometry->VerifyGeometry();
+  if (geometry->GetProjection() == itk::PointBasedDRREnums::Projection::Perspective &&
+      !(geometry->GetSourceToDetectorDistance() > geometry->GetSourceToIsocenterDistance()))
+  {
+    // The render keeps what lies between the source and the detector: the volume would be behind it, the image empty.
+    std::ostringstream message;
+    message << "the detector lies between the source and the isocenter (SID " << geometry->GetSourceToDetectorDistance()
+            << " mm <= SAD " << geometry->GetSourceToIsocenterDistance()
+            << " mm), so the volume is behind it: give --sid larger than --sad";
+    throw UsageError(message.str());
+  }
   return geometry;
 }
 
@@ -284,13 +298,15 @@ std::string
 DescribeGeometry(const itk::DRRProjectionGeometry * g)
 {
   std::ostringstream s;
-  s << itk::DRRPolicies::Beams::GetName(g->GetProjection()) << ", SAD " << g->GetSourceToIsocenterDistance()
-    << " mm, SID " << g->GetSourceToDetectorDistance() << " mm, isocenter " << g->GetIsocenter() << ", nrm "
-    << g->GetNormal() << ", vup " << g->GetViewUp() << ", detector " << g->GetDetectorSize()[0] << " cols x "
-    << g->GetDetectorSize()[1] << " rows at " << g->GetDetectorSpacing()[0] << " x " << g->GetDetectorSpacing()[1]
-    << " mm, offset " << g->GetDetectorOffset()[0] << " " << g->GetDetectorOffset()[1] << " mm; source "
-    << g->GetSourcePosition() << ", columns along " << g->GetColumnDirection() << ", rows along "
-    << g->GetRowDirection();
+  const auto         number = [](double value) { return RoundedForDisplay(value); };
+  s << itk::DRRPolicies::Beams::GetName(g->GetProjection()) << ", SAD " << number(g->GetSourceToIsocenterDistance())
+    << " mm, SID " << number(g->GetSourceToDetectorDistance()) << " mm, isocenter " << FormatTriple(g->GetIsocenter())
+    << ", nrm " << FormatTriple(g->GetNormal()) << ", vup " << FormatTriple(g->GetViewUp()) << ", detector "
+    << g->GetDetectorSize()[0] << " cols x " << g->GetDetectorSize()[1] << " rows at "
+    << number(g->GetDetectorSpacing()[0]) << " x " << number(g->GetDetectorSpacing()[1]) << " mm, offset "
+    << number(g->GetDetectorOffset()[0]) << " " << number(g->GetDetectorOffset()[1]) << " mm; source "
+    << FormatTriple(g->GetSourcePosition()) << ", columns along " << FormatTriple(g->GetColumnDirection())
+    << ", rows along " << FormatTriple(g->GetRowDirection());
   return s.str();
 }
 
@@ -334,6 +350,19 @@ WriteGray(const ProjectionType * lineIntegral, const itk::DRROutputConversion & 
   itk::WriteImage(gray, path);
 }
 
+/** The output mode: --output-mode, or the output extension's own; refuses a mode the extension cannot hold. */
+std::string
+OutputMode(const Options & options)
+{
+  const std::string kind = OutputKind(options.output);
+  const std::string mode = !options.outputMode.empty() ? options.outputMode : kind == "png" ? "gray8" : "line-integral";
+  if (kind == "png" && mode != "gray8" && mode != "gray16")
+  {
+    throw UsageError("a .png output holds gray levels: use --output-mode gray8 or gray16, or a float format (.mha)");
+  }
+  return mode;
+}
+
 /** Writes the line-integral image (and its standard error) as the output path and mode say. */
 void
 WriteOutputs(const Options &            options,
@@ -342,16 +371,8 @@ WriteOutputs(const Options &            options,
              std::vector<std::string> & notes)
 {
   const std::string kind = OutputKind(options.output);
-  std::string       mode = options.outputMode;
-  if (mode.empty())
-  {
-    mode = kind == "png" ? "gray8" : "line-integral";
-  }
-  if (kind == "png" && mode != "gray8" && mode != "gray16")
-  {
-    throw UsageError("a .png output holds gray levels: use --output-mode gray8 or gray16, or a float format (.mha)");
-  }
-  double level = 0.0, width = 1.0;
+  const std::string mode = OutputMode(options);
+  double            level = 0.0, width = 1.0;
   if (mode == "gray8" || mode == "gray16")
   {
     ChooseWindow(options, lineIntegral, level, width);
@@ -417,7 +438,14 @@ Run(const Options & options)
   const bool                                  chatty = !options.quiet;
   std::vector<std::string>                    notes;
   std::vector<std::pair<std::string, double>> stages;
-  OutputKind(options.output); // refuse unknown extensions before any work
+  OutputMode(options); // refuse unknown extensions, and modes they cannot hold, before any work
+  if (chatty)
+  {
+    for (const auto & warning : options.warnings)
+    {
+      std::cerr << "pbdrr: warning: " << warning << std::endl;
+    }
+  }
   if (!options.standardErrorOutput.empty())
   {
     if (OutputKind(options.standardErrorOutput) == "png")
@@ -443,6 +471,8 @@ Run(const Options & options)
   {
     itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
   }
+
+  MakeGeometry(options, nullptr); // the view's checks (geometry file, SID against SAD) before the load
 
   auto               start = Clock::now();
   const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID);

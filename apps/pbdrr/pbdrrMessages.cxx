@@ -20,11 +20,32 @@
 #include "itkObjectFactory.h"
 #include "itkOutputWindow.h"
 
+#include <cmath>
 #include <iostream>
 #include <regex>
+#include <sstream>
 
 namespace pbdrr
 {
+std::string
+FormatNumber(double value)
+{
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+double
+RoundedForDisplay(double value)
+{
+  if (!std::isfinite(value) || std::abs(value) >= 1e6)
+  {
+    return value; // nothing to tidy beyond the 6 digits printed; and 1e9 x value must not overflow
+  }
+  const double rounded = std::round(value * 1e9) / 1e9;
+  return rounded == 0.0 ? 0.0 : rounded; // -0 == 0: the positive zero
+}
+
 namespace
 {
 bool quietMessages = false;

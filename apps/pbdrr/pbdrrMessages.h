@@ -26,6 +26,23 @@ namespace pbdrr
 std::string
 CleanMessage(const std::string & message);
 
+/** A number as iostream prints it by default (6 significant digits). */
+std::string
+FormatNumber(double value);
+
+/** A geometry number as a person reads it: rounded to 1e-9 (6.12323e-17 is 0) and without a negative zero. */
+double
+RoundedForDisplay(double value);
+
+/** "[x, y, z]" of the first three components of a point or vector, each RoundedForDisplay(). */
+template <typename TTriple>
+std::string
+FormatTriple(const TTriple & triple)
+{
+  return "[" + FormatNumber(RoundedForDisplay(triple[0])) + ", " + FormatNumber(RoundedForDisplay(triple[1])) + ", " +
+         FormatNumber(RoundedForDisplay(triple[2])) + "]";
+}
+
 /** Routes ITK warnings to stderr as "pbdrr: warning: ..." (cleaned), or nowhere when quiet. */
 void
 InstallMessageWindow();

@@ -196,6 +196,63 @@ ControlVariateFactor(const std::string & value)
   throw UsageError("--control-variate expects off, auto or a coarsening factor from 2 to " +
                    std::to_string(itk::DRRControlVariate::MaximumFactor) + ", got '" + value + "'");
 }
+/** The separators of a list given as one word: commas, and for --size also an x between the two numbers. */
+std::string
+ListSeparators(const std::string & flag)
+{
+  return flag == "--size" ? ",x" : ",";
+}
+
+/** Whether the word after a flag of several values holds them all (`--size 256,256`, `--size 256x256`). */
+bool
+IsList(const std::string & word, const std::string & flag)
+{
+  return !word.empty() && std::isdigit(static_cast<unsigned char>(word.front())) != 0 &&
+         word.find_first_of(ListSeparators(flag)) != std::string::npos;
+}
+
+/** The values of a flag given as one word: the word itself for one value, else split at the list separators. */
+std::vector<std::string>
+SplitList(const std::string & word, size_t count, const std::string & flag)
+{
+  if (count == 1)
+  {
+    return { word };
+  }
+  std::vector<std::string> values;
+  size_t                   begin = 0;
+  for (size_t end; (end = word.find_first_of(ListSeparators(flag), begin)) != std::string::npos; begin = end + 1)
+  {
+    values.push_back(word.substr(begin, end - begin));
+  }
+  values.push_back(word.substr(begin));
+  if (values.size() != count)
+  {
+    throw UsageError(flag + " expects " + std::to_string(count) + " value(s), got '" + word + "'");
+  }
+  return values;
+}
+
+/** `-vq` as `-v -q`: the single-letter flags of a word, if every one of them is a flag without a value; else none. */
+std::vector<std::string>
+CombinedShortFlags(const std::string & word, const std::function<bool(const std::string &)> & takesNoValue)
+{
+  std::vector<std::string> singles;
+  if (word.size() < 3 || word[0] != '-' || word[1] == '-')
+  {
+    return singles;
+  }
+  for (size_t c = 1; c < word.size(); ++c)
+  {
+    const std::string single{ '-', word[c] };
+    if (!takesNoValue(single))
+    {
+      return {};
+    }
+    singles.push_back(single);
+  }
+  return singles;
+}
 } // namespace
 
 Options
@@ -289,18 +346,46 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     const std::string & argument = arguments[i];
     if (argument.size() > 1 && argument[0] == '-')
     {
-      const auto flag = flags.find(argument);
-      if (flag == flags.end())
+      // The forms people type: --name=value (lists as 1,2 or, for --size, 256x256), a list as one word, -vq.
+      const size_t      equals = argument.rfind("--", 0) == 0 ? argument.find('=') : std::string::npos;
+      const std::string name = argument.substr(0, equals);
+      const auto        flag = flags.find(name);
+      if (flag == flags.end() || (equals != std::string::npos && flag->second.count == 0))
       {
-        throw UsageError("unknown option '" + argument + "' (see pbdrr --help)");
+        const std::vector<std::string> combined = CombinedShortFlags(argument, [&](const std::string & single) {
+          const auto found = flags.find(single);
+          return found != flags.end() && found->second.count == 0;
+        });
+        if (combined.empty())
+        {
+          throw UsageError("unknown option '" + argument + "' (see pbdrr --help)");
+        }
+        for (const std::string & single : combined)
+        {
+          flags.at(single).handle({});
+        }
+        continue;
       }
-      if (i + flag->second.count >= arguments.size() && flag->second.count > 0)
+      const size_t             count = flag->second.count;
+      std::vector<std::string> values;
+      if (equals != std::string::npos)
       {
-        throw UsageError(argument + " expects " + std::to_string(flag->second.count) + " value(s)");
+        values = SplitList(argument.substr(equals + 1), count, name);
       }
-      std::vector<std::string> values(arguments.begin() + i + 1, arguments.begin() + i + 1 + flag->second.count);
+      else if (count > 1 && i + 1 < arguments.size() && IsList(arguments[i + 1], name))
+      {
+        values = SplitList(arguments[++i], count, name);
+      }
+      else
+      {
+        if (i + count >= arguments.size() && count > 0)
+        {
+          throw UsageError(argument + " expects " + std::to_string(count) + " value(s)");
+        }
+        values.assign(arguments.begin() + i + 1, arguments.begin() + i + 1 + count);
+        i += count;
+      }
       flag->second.handle(values);
-      i += flag->second.count;
     }
     else
     {
@@ -321,6 +406,16 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   if (options.output.empty())
   {
     throw UsageError("no output given: -o OUTPUT (.mha, .nrrd, .nii, .nii.gz, .tif: float; .png: 8-bit gray)");
+  }
+  if (options.gantryDegrees && std::abs(*options.gantryDegrees) <= 2.0 * 3.14159265358979323846 &&
+      *options.gantryDegrees != std::floor(*options.gantryDegrees))
+  {
+    // plastimatch's -y takes radians: 1.57 for an AP view is a habit, and in degrees it is nearly the lateral view.
+    std::ostringstream warning;
+    warning << "--gantry " << *options.gantryDegrees << " is in degrees (a view " << *options.gantryDegrees
+            << " degrees from --gantry 0); for " << *options.gantryDegrees << " radians give --gantry "
+            << *options.gantryDegrees * 180.0 / 3.14159265358979323846;
+    options.warnings.push_back(warning.str());
   }
   if (options.energyKeV && options.muWater)
   {
@@ -459,10 +554,12 @@ Physics:
   --output-mode line-integral|transmission|gray8|gray16
   --window LEVEL WIDTH   gray window in line-integral units (default: percentiles)
 
-Other outputs and messages:
+Input, other outputs and messages:
+  --series UID           the DICOM series to read from a directory of several (default: the largest)
   --stderr FILE          per-pixel standard error of the estimate (same units as OUTPUT)
   --quiet, -q            no progress bar or notes      --verbose, -v   geometry, volume, mass, stage times
   --help, -h             this text                     --version       the version
+Option forms: --size 256 256 or --size=256,256 or --size 256x256; --samples=1e7; -vq for -v -q.
 
 Examples:
   pbdrr ct_dir/ -o ap.png --gantry 90                       AP radiograph of a DICOM series, 10M samples

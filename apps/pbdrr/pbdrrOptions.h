@@ -85,9 +85,11 @@ struct Options
   unsigned                                                     raysPerSide{ 1 };
 
   bool quiet{ false };
-  bool verbose{ false };
-  bool help{ false };
-  bool version{ false };
+  /** Warnings about options that parse but look like a mistake (e.g. --gantry in radians); printed before the work. */
+  std::vector<std::string> warnings;
+  bool                     verbose{ false };
+  bool                     help{ false };
+  bool                     version{ false };
 };
 
 /** Parses argv; throws UsageError naming the flag and the bad value. */

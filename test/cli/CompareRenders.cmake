@@ -3,14 +3,25 @@
 #   cmake -DEXE=/path/to/pbdrr -DFIRST=input1 -DSECOND=input2 -DOUTPUT_DIRECTORY=dir -DNAME=name
 #         -P CompareRenders.cmake -- pbdrr options...
 #
-# Used with --exact: two files that hold the same volume in different layouts must give the same radiograph.
+# Used with --exact: two files that hold the same volume in different layouts must give the same radiograph. With a
+# word --vs among the options, the options before it render FIRST and those after it SECOND: two spellings of the
+# same options must give the same image.
 cmake_minimum_required(VERSION 3.16)
 include(${CMAKE_CURRENT_LIST_DIR}/ArgumentsAfterSeparator.cmake)
 pbdrr_arguments_after_separator(options)
 file(MAKE_DIRECTORY "${OUTPUT_DIRECTORY}")
+list(FIND options "--vs" split)
+set(options_0 ${options})
+set(options_1 ${options})
+if(split GREATER -1)
+  list(SUBLIST options 0 ${split} options_0)
+  math(EXPR after "${split} + 1")
+  list(SUBLIST options ${after} -1 options_1)
+endif()
 set(outputs "")
 foreach(input IN ITEMS "${FIRST}" "${SECOND}")
   list(LENGTH outputs index)
+  set(options ${options_${index}})
   set(output "${OUTPUT_DIRECTORY}/${NAME}_${index}.mha")
   file(REMOVE "${output}")
   execute_process(COMMAND "${EXE}" "${input}" -o "${output}" ${options} RESULT_VARIABLE exit_code ERROR_VARIABLE err
