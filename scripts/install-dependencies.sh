@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages PointBasedDRR needs to build, test and run its demo (as root, Debian bookworm).
 set -euo pipefail
-packages=(build-essential cmake libinsighttoolkit5-dev libgdcm-dev libgtest-dev libbenchmark-dev invesalius-examples
+packages=(build-essential cmake libinsighttoolkit5-dev libgdcm-dev libgtest-dev invesalius-examples
   clang libclang-rt-14-dev llvm # clang, libFuzzer and the sanitizers' runtimes, llvm-symbolizer: test/fuzz
   doxygen clang-format)         # the docs target and its test, the formatting test (docs/, test/format)
 missing=()

@@ -228,7 +228,8 @@ MakeTransferFunction(const Options & options)
   return transfer;
 }
 
-/** A progress bar on a terminal, shown once a render has run for half a second. */
+/** Progress on a terminal only (never into a file or a pipe), shown once the work has run for half a second: a bar
+ * with the time left for a render, a count of files for a load. */
 class ProgressBar
 {
 public:
@@ -242,13 +243,32 @@ public:
     {
       return;
     }
+    if (progress + 0.01f < m_LastProgress)
+    {
+      m_PhaseStart = Clock::now(); // a new stage of the render (the control variate's coarse image, then the points)
+    }
+    m_LastProgress = progress;
     const int width = 40;
     const int filled = static_cast<int>(progress * width + 0.5f);
     std::fprintf(stderr,
-                 "\r[%s%s] %3d%%",
+                 "\r[%s%s] %3d%%%s",
                  std::string(filled, '=').c_str(),
                  std::string(width - filled, ' ').c_str(),
-                 static_cast<int>(progress * 100.0f + 0.5f));
+                 static_cast<int>(progress * 100.0f + 0.5f),
+                 TimeLeft(progress, SecondsSince(m_PhaseStart)).c_str());
+    std::fflush(stderr);
+    m_Shown = true;
+  }
+
+  /** "what done / total", e.g. the files of a DICOM series read so far. */
+  void
+  ShowCount(const char * what, size_t done, size_t total)
+  {
+    if (!m_Enabled || SecondsSince(m_Start) < 0.5)
+    {
+      return;
+    }
+    std::fprintf(stderr, "\r%s %zu / %zu", what, done, total);
     std::fflush(stderr);
     m_Shown = true;
   }
@@ -258,16 +278,39 @@ public:
   {
     if (m_Shown)
     {
-      std::fprintf(stderr, "\r%60s\r", "");
+      std::fprintf(stderr, "\r%80s\r", "");
       std::fflush(stderr);
       m_Shown = false;
     }
   }
 
 private:
+  /** ", about 12 s left": the elapsed time scaled by what is left, once 2% is done (blank before, and at the end). */
+  static std::string
+  TimeLeft(float progress, double elapsedSeconds)
+  {
+    if (!(progress >= 0.02f) || progress >= 1.0f)
+    {
+      return "                    ";
+    }
+    const auto left = static_cast<long>(std::lround(elapsedSeconds * (1.0 - progress) / progress));
+    char       text[64];
+    if (left < 60)
+    {
+      std::snprintf(text, sizeof(text), ", about %ld s left     ", left);
+    }
+    else
+    {
+      std::snprintf(text, sizeof(text), ", about %ld min %02ld s left", left / 60, left % 60);
+    }
+    return text;
+  }
+
   bool              m_Enabled;
   bool              m_Shown{ false };
   Clock::time_point m_Start;
+  Clock::time_point m_PhaseStart{ m_Start };
+  float             m_LastProgress{ 0.0f };
 };
 
 std::string
@@ -475,7 +518,11 @@ Run(const Options & options)
   MakeGeometry(options, nullptr); // the view's checks (geometry file, SID against SAD) before the load
 
   auto               start = Clock::now();
-  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID);
+  ProgressBar        loadProgress(chatty);
+  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, [&](size_t done, size_t total) {
+    loadProgress.ShowCount("reading DICOM files", done, total);
+  });
+  loadProgress.Finish();
   stages.emplace_back("load", SecondsSince(start));
   for (const auto & note : loaded.Notes)
   {

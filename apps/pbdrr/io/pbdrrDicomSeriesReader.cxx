@@ -22,6 +22,7 @@
 #include "pbdrrGdcmWarningCapture.h"
 #include "pbdrrLoaderText.h"
 
+#include "itkCommand.h"
 #include "itkGDCMImageIO.h"
 #include "itkImageSeriesReader.h"
 #include "gdcmScanner.h"
@@ -73,7 +74,8 @@ ScanSeries(const std::vector<std::string> & files)
 VolumeType::Pointer
 ReadDicomSeries(const std::vector<std::string> & files,
                 const std::vector<std::string> & notDicom,
-                const std::string &              directory)
+                const std::string &              directory,
+                const LoadProgress &             progress)
 {
   GdcmWarningCapture warnings;
   double             spacing = 1.0;
@@ -91,6 +93,23 @@ ReadDicomSeries(const std::vector<std::string> & files,
   auto reader = itk::ImageSeriesReader<VolumeType>::New();
   reader->SetImageIO(itk::GDCMImageIO::New());
   reader->SetFileNames(files);
+  if (progress)
+  {
+    // ImageSeriesReader reports its progress once per file read.
+    auto observer = itk::CStyleCommand::New();
+    struct Context
+    {
+      const LoadProgress * Progress;
+      size_t               Files;
+    } context{ &progress, files.size() };
+    observer->SetClientData(&context);
+    observer->SetCallback([](itk::Object * caller, const itk::EventObject &, void * data) {
+      const auto * c = static_cast<const Context *>(data);
+      const float  fraction = static_cast<itk::ProcessObject *>(caller)->GetProgress();
+      (*c->Progress)(static_cast<size_t>(fraction * static_cast<float>(c->Files) + 0.5f), c->Files);
+    });
+    reader->AddObserver(itk::ProgressEvent(), observer);
+  }
   reader->Update();
   VolumeType::Pointer image = reader->GetOutput();
   image->DisconnectPipeline();

@@ -28,11 +28,13 @@ namespace pbdrr
 /** Reads the slices `files` (one series, in order, two or more) as a volume, after checking from their headers that
  * they form one regular grid (CheckSliceStack); the third spacing is the slices' own, not GDCM's. Refused, with
  * std::runtime_error, if they do not or if GDCM finds their pixel data damaged. `notDicom` (the files of `directory`
- * that are not DICOM) are named beside a refusal of the slices: a slice cut to a few bytes is one of them. */
+ * that are not DICOM) are named beside a refusal of the slices: a slice cut to a few bytes is one of them. `progress`
+ * (may be empty) is told the files read as the reader goes. */
 VolumeType::Pointer
 ReadDicomSeries(const std::vector<std::string> & files,
                 const std::vector<std::string> & notDicom,
-                const std::string &              directory);
+                const std::string &              directory,
+                const LoadProgress &             progress = {});
 } // namespace pbdrr
 
 #endif

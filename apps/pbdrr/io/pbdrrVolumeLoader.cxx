@@ -35,7 +35,7 @@ namespace
 {
 /** A directory: its DICOM series (found, then one selected), read as a volume. */
 LoadedVolume
-LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
+LoadDicomDirectory(const std::string & directory, const std::string & seriesUID, const LoadProgress & progress)
 {
   GdcmWarningCapture    quiet; // GDCM's own errors while scanning: pbdrr words the problems itself
   LoadedVolume          loaded;
@@ -49,7 +49,7 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID)
   }
   else
   {
-    loaded.Image = ReadDicomSeries(chosen.Files, list.NotDicom, directory);
+    loaded.Image = ReadDicomSeries(chosen.Files, list.NotDicom, directory, progress);
   }
   const std::string name = chosen.UID.empty() ? std::string("without a Series Instance UID") : chosen.UID;
   loaded.Description = "DICOM series " + name + " (" + std::to_string(chosen.Files.size()) + " files) in " + directory;
@@ -88,7 +88,7 @@ LoadVolumeFile(const std::string & input)
 } // namespace
 
 LoadedVolume
-LoadVolume(const std::string & input, const std::string & seriesUID)
+LoadVolume(const std::string & input, const std::string & seriesUID, const LoadProgress & progress)
 {
   struct stat status;
   if (stat(input.c_str(), &status) != 0)
@@ -97,7 +97,7 @@ LoadVolume(const std::string & input, const std::string & seriesUID)
   }
   try
   {
-    return S_ISDIR(status.st_mode) ? LoadDicomDirectory(input, seriesUID) : LoadVolumeFile(input);
+    return S_ISDIR(status.st_mode) ? LoadDicomDirectory(input, seriesUID, progress) : LoadVolumeFile(input);
   }
   catch (const itk::ExceptionObject & e)
   {

@@ -20,6 +20,7 @@
 
 #include "itkImage.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,12 +36,15 @@ struct LoadedVolume
   std::vector<std::string> Notes;       // e.g. "3 series in DIR; using ..."
 };
 
+/** Told how many files of a DICOM series have been read, of how many, while they are read (for a progress line). */
+using LoadProgress = std::function<void(size_t filesRead, size_t files)>;
+
 /** Reads INPUT: a DICOM series directory (series discovery through GDCM; the largest series unless seriesUID) or
  * any 3D scalar volume ITK reads. A DICOM series is checked before it is read: one orientation, slice positions
  * along the slice normal (no gantry tilt), no missing slices and even spacing; each violation throws
  * std::runtime_error with the reason, as does a missing path, a 2D, 4D or vector image. */
 LoadedVolume
-LoadVolume(const std::string & input, const std::string & seriesUID);
+LoadVolume(const std::string & input, const std::string & seriesUID, const LoadProgress & progress = {});
 } // namespace pbdrr
 
 #endif
