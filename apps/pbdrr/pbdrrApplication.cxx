@@ -295,7 +295,11 @@ private:
     }
     const auto left = static_cast<long>(std::lround(elapsedSeconds * (1.0 - progress) / progress));
     char       text[64];
-    if (left < 60)
+    if (left < 1)
+    {
+      std::snprintf(text, sizeof(text), ", under a second left  ");
+    }
+    else if (left < 60)
     {
       std::snprintf(text, sizeof(text), ", about %ld s left     ", left);
     }
