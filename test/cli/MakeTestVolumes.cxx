@@ -23,7 +23,8 @@
 //   dicom_jpeg2000_truncated (a copy of the JPEG 2000 series J2K with one slice cut short, if J2K is given), and DICOM
 //   series directories: dicom_good, dicom_missing, dicom_uneven, dicom_tilt, dicom_duplicate, dicom_orientation,
 //   dicom_single, dicom_two_series, dicom_empty, dicom_text_only, dicom_truncated (a slice cut short),
-//   dicom_with_report (non-image objects beside the slices) and multi-frame files: dicom_multiframe (and _descending,
+//   dicom_with_report (non-image objects beside the slices), dicom_with_dirfile (a DICOMDIR named DIRFILE beside the
+//   slices, as a Philips export has it) and multi-frame files: dicom_multiframe (and _descending,
 //   _uneven, _shuffled, _legacy, _nogroups, _nowhere).
 // The slice positions written into the DICOM files are read back with GDCM and checked, so a test that expects
 // "missing slice" really gets a series with a missing slice.
@@ -318,6 +319,34 @@ WriteReport(const fs::path & file, const std::string & seriesUID, const std::str
   }
 }
 
+/** A DICOM media storage directory as scanners write beside their slices (a DICOMDIR, or Philips' DIRFILE): the
+ * SOP class in the file meta information only, a file-set ID and a directory record sequence (left empty). */
+void
+WriteDicomDirectory(const fs::path & file)
+{
+  gdcm::Writer    writer;
+  gdcm::File &    dicom = writer.GetFile();
+  gdcm::DataSet & dataSet = dicom.GetDataSet();
+  dataSet.Insert(MakeElement(gdcm::Tag(0x0004, 0x1130), gdcm::VR::CS, "PBDRRTEST"));
+  gdcm::SmartPointer<gdcm::SequenceOfItems> records = new gdcm::SequenceOfItems;
+  records->SetLengthToUndefined();
+  gdcm::DataElement sequence(gdcm::Tag(0x0004, 0x1220));
+  sequence.SetVR(gdcm::VR::SQ);
+  sequence.SetValue(*records);
+  sequence.SetVLToUndefined();
+  dataSet.Insert(sequence);
+  gdcm::FileMetaInformation & meta = dicom.GetHeader();
+  meta.Insert(MakeElement(gdcm::Tag(0x0002, 0x0002), gdcm::VR::UI, "1.2.840.10008.1.3.10"));
+  meta.Insert(MakeElement(gdcm::Tag(0x0002, 0x0003), gdcm::VR::UI, studyUID + ".999"));
+  meta.SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
+  writer.SetCheckFileMetaInformation(true);
+  writer.SetFileName(file.string().c_str());
+  if (!writer.Write())
+  {
+    throw std::runtime_error("cannot write the DICOM directory " + file.string());
+  }
+}
+
 /** The value of the multi-frame phantom: the series phantom, plus a marker in its first three slices, so that a
  * volume read upside down differs. */
 short
@@ -542,6 +571,11 @@ main(int argc, char * argv[])
     WriteSeries(report, uid + "9", AxialStack(8, 2.5));
     WriteReport(report / "SR0001.dcm", uid + "9", uid + "9.100");
     WriteReport(report / "SR0002.dcm", uid + "10", uid + "10.1");
+
+    // A scanner export: the slices with the export's media storage directory beside them (Philips names it DIRFILE).
+    const fs::path exported = FreshDirectory(root / "dicom_with_dirfile");
+    WriteSeries(exported, uid + "9", AxialStack(8, 2.5));
+    WriteDicomDirectory(exported / "DIRFILE");
 
     // Multi-frame files: good (frames stored upwards and downwards; a legacy object placed by its top-level spacing),
     // and with frame positions that are uneven, out of order, absent from an enhanced object, or absent with no

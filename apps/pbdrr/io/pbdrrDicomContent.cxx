@@ -39,6 +39,13 @@ ClassifyDicomFile(const std::string & file)
     return DicomContent::Damaged;
   }
   const gdcm::DataSet & dataSet = reader.GetFile().GetDataSet();
+  // The file meta information names the SOP class of every Part 10 file, a DICOMDIR's too (its data set has none).
+  std::string storageClass;
+  StringValue(reader.GetFile().GetHeader(), gdcm::Tag(0x0002, 0x0002), storageClass);
+  if (storageClass == MediaStorageDirectorySOPClass)
+  {
+    return DicomContent::Directory;
+  }
   if (dataSet.FindDataElement(gdcm::Tag(0x7fe0, 0x0010)))
   {
     return DicomContent::Image;

@@ -30,10 +30,14 @@ namespace pbdrr
 enum class DicomContent
 {
   NotDicom,
-  Damaged, // starts as DICOM, but GDCM cannot parse it, or its pixel data is cut short
-  NoImage, // a DICOM object without pixel data: a report, a structure set, ...
+  Damaged,   // starts as DICOM, but GDCM cannot parse it, or its pixel data is cut short
+  NoImage,   // a DICOM object without pixel data: a report, a structure set, ...
+  Directory, // a media storage directory (DICOMDIR, or a scanner's DIRFILE): an index of other files, no image
   Image
 };
+
+/** The SOP class of a media storage directory (DICOMDIR), as its file meta information names it. */
+constexpr const char * MediaStorageDirectorySOPClass = "1.2.840.10008.1.3.10";
 
 /** Reads `file` with GDCM (its output captured) and says what it holds. */
 DicomContent

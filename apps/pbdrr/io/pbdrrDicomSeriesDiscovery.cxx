@@ -81,7 +81,7 @@ SortOutOtherFiles(const std::vector<std::string> & directoryFiles,
   {
     taken.insert(s.Files.begin(), s.Files.end());
   }
-  std::vector<std::string> damaged, withoutImage, otherImages;
+  std::vector<std::string> damaged, withoutImage, otherImages, directories;
   for (const auto & file : directoryFiles)
   {
     if (taken.count(file))
@@ -95,6 +95,9 @@ SortOutOtherFiles(const std::vector<std::string> & directoryFiles,
         break;
       case DicomContent::NoImage:
         withoutImage.push_back(file);
+        break;
+      case DicomContent::Directory:
+        directories.push_back(file);
         break;
       case DicomContent::Image:
         otherImages.push_back(file);
@@ -113,6 +116,11 @@ SortOutOtherFiles(const std::vector<std::string> & directoryFiles,
   if (list.Series.empty())
   {
     Fail("no DICOM series found in directory " + directory);
+  }
+  if (!directories.empty())
+  {
+    list.Notes.push_back("ignored " + std::to_string(directories.size()) + " DICOM directory file(s) in " + directory +
+                         " (a DICOMDIR: an index of the export, not an image): " + JoinNames(directories));
   }
   if (!withoutImage.empty())
   {
