@@ -18,6 +18,7 @@
 // pbdrr: digitally reconstructed radiographs from the command line (see pbdrr --help).
 #include "pbdrrApplication.h"
 #include "pbdrrMessages.h"
+#include "pbdrrVolumeLoader.h"
 #include "itkMacro.h"
 
 #include <iostream>
@@ -38,6 +39,11 @@ main(int argc, char * argv[])
     if (options.version)
     {
       std::cout << pbdrr::VersionText() << std::endl;
+      return 0;
+    }
+    if (!options.listSeries.empty())
+    {
+      std::cout << pbdrr::ListDicomSeries(options.listSeries);
       return 0;
     }
     pbdrr::Run(options);

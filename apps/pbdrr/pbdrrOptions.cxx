@@ -271,6 +271,7 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--stderr", { 1, [&](const auto & v) { options.standardErrorOutput = v[0]; } } },
     { "--geometry", { 1, [&](const auto & v) { options.geometryFile = v[0]; } } },
     { "--series", { 1, [&](const auto & v) { options.seriesUID = v[0]; } } },
+    { "--list-series", { 1, [&](const auto & v) { options.listSeries = v[0]; } } },
     { "--sad", { 1, [&](const auto & v) { options.sad = PositiveLength(v[0], "--sad", "SAD"); } } },
     { "--sid", { 1, [&](const auto & v) { options.sid = PositiveLength(v[0], "--sid", "SID"); } } },
     { "--gantry", { 1, [&](const auto & v) { options.gantryDegrees = ParseNumber(v[0], "--gantry"); } } },
@@ -392,7 +393,7 @@ ParseCommandLine(const std::vector<std::string> & arguments)
       positional.push_back(argument);
     }
   }
-  if (options.help || options.version)
+  if (options.help || options.version || (!options.listSeries.empty() && positional.empty()))
   {
     return options;
   }
@@ -555,7 +556,9 @@ Physics:
   --window LEVEL WIDTH   gray window in line-integral units (default: percentiles)
 
 Input, other outputs and messages:
-  --series UID           the DICOM series to read from a directory of several (default: the largest)
+  --series UID           the DICOM series to read from a directory or export of several (default: the largest
+                         CT volume; localizers never)
+  --list-series ROOT     list the DICOM series in ROOT and its folders (kind, size, tilt, description, UID), stop
   --stderr FILE          per-pixel standard error of the estimate (same units as OUTPUT)
   --quiet, -q            no progress bar or notes      --verbose, -v   geometry, volume, mass, stage times
   --help, -h             this text                     --version       the version

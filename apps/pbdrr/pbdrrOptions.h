@@ -84,7 +84,8 @@ struct Options
   std::optional<itk::PointBasedDRREnums::ReconstructionKernel> exact;
   unsigned                                                     raysPerSide{ 1 };
 
-  bool quiet{ false };
+  bool        quiet{ false };
+  std::string listSeries; // --list-series ROOT: list the DICOM series of an export tree and stop
   /** Warnings about options that parse but look like a mistake (e.g. --gantry in radians); printed before the work. */
   std::vector<std::string> warnings;
   bool                     verbose{ false };

@@ -24,7 +24,8 @@
 //   series directories: dicom_good, dicom_missing, dicom_uneven, dicom_tilt, dicom_duplicate, dicom_orientation,
 //   dicom_single, dicom_two_series, dicom_empty, dicom_text_only, dicom_truncated (a slice cut short),
 //   dicom_with_report (non-image objects beside the slices), dicom_with_dirfile (a DICOMDIR named DIRFILE beside the
-//   slices, as a Philips export has it) and multi-frame files: dicom_multiframe (and _descending,
+//   slices, as a Philips export has it), dicom_export (an export tree: DIRFILE, a localizer series, a volume and a
+//   smaller series in folders) and multi-frame files: dicom_multiframe (and _descending,
 //   _uneven, _shuffled, _legacy, _nogroups, _nowhere).
 // The slice positions written into the DICOM files are read back with GDCM and checked, so a test that expects
 // "missing slice" really gets a series with a missing slice.
@@ -159,7 +160,8 @@ WriteSlice(const fs::path &    file,
            const std::string & seriesUID,
            unsigned            instance,
            const Vector3 &     position,
-           const Orientation & orientation)
+           const Orientation & orientation,
+           const std::string & imageType)
 {
   using SliceType = itk::Image<short, 2>;
   auto                   slice = SliceType::New();
@@ -186,6 +188,7 @@ WriteSlice(const fs::path &    file,
   auto                    set = [&](const std::string & tag, const std::string & value) {
     itk::EncapsulateMetaData<std::string>(dictionary, tag, value);
   };
+  set("0008|0008", imageType);
   set("0008|0016", "1.2.840.10008.5.1.4.1.1.2"); // CT Image Storage
   set("0008|0018", seriesUID + "." + std::to_string(instance));
   set("0008|0060", "CT");
@@ -221,7 +224,8 @@ void
 WriteSeries(const fs::path &               directory,
             const std::string &            seriesUID,
             const std::vector<SliceSpec> & slices,
-            const std::string &            prefix = "IM")
+            const std::string &            prefix = "IM",
+            const std::string &            imageType = "ORIGINAL\\PRIMARY\\AXIAL")
 {
   std::vector<std::string> files;
   for (size_t i = 0; i < slices.size(); ++i)
@@ -229,7 +233,7 @@ WriteSeries(const fs::path &               directory,
     char name[64];
     std::snprintf(name, sizeof(name), "%s%04zu.dcm", prefix.c_str(), i + 1);
     const fs::path file = directory / name;
-    WriteSlice(file, seriesUID, static_cast<unsigned>(i + 1), slices[i].position, slices[i].orientation);
+    WriteSlice(file, seriesUID, static_cast<unsigned>(i + 1), slices[i].position, slices[i].orientation, imageType);
     files.push_back(file.string());
   }
 
@@ -576,6 +580,27 @@ main(int argc, char * argv[])
     const fs::path exported = FreshDirectory(root / "dicom_with_dirfile");
     WriteSeries(exported, uid + "9", AxialStack(8, 2.5));
     WriteDicomDirectory(exported / "DIRFILE");
+
+    // A whole export: its DIRFILE at the root, and in folders below it a localizer series (12 single-slice files: the
+    // most files, never a volume), the volume (8 slices) and a smaller series (5), each beside its own DIRFILE.
+    const fs::path exportRoot = FreshDirectory(root / "dicom_export");
+    WriteDicomDirectory(exportRoot / "DIRFILE");
+    const std::vector<std::pair<std::string, std::string>> folders = { { "S1000", "20" },
+                                                                       { "S2010", "21" },
+                                                                       { "S3010", "22" } };
+    for (const auto & [folder, number] : folders)
+    {
+      const fs::path directory = FreshDirectory(exportRoot / folder);
+      WriteDicomDirectory(directory / "DIRFILE");
+      if (number == "20")
+      {
+        WriteSeries(directory, uid + number, AxialStack(12, 2.5), "I", "ORIGINAL\\PRIMARY\\LOCALIZER");
+      }
+      else
+      {
+        WriteSeries(directory, uid + number, AxialStack(number == "21" ? 8 : 5, 2.5), "I");
+      }
+    }
 
     // Multi-frame files: good (frames stored upwards and downwards; a legacy object placed by its top-level spacing),
     // and with frame positions that are uneven, out of order, absent from an enhanced object, or absent with no

@@ -17,9 +17,11 @@
  *=========================================================================*/
 #include "pbdrrVolumeLoader.h"
 #include "pbdrrDicomFileCheck.h"
+#include "pbdrrDicomContent.h"
 #include "pbdrrDicomMultiFrame.h"
 #include "pbdrrDicomSeriesDiscovery.h"
 #include "pbdrrDicomSeriesReader.h"
+#include "pbdrrDicomSeriesTree.h"
 #include "pbdrrGdcmWarningCapture.h"
 #include "pbdrrLoaderText.h"
 #include "pbdrrVolumeFileReader.h"
@@ -27,21 +29,63 @@
 #include "itkGDCMImageIO.h"
 #include "itkImageIOFactory.h"
 
+#include <filesystem>
 #include <sys/stat.h>
 
 namespace pbdrr
 {
 namespace
 {
+/** Whether a directory holds no file but a DICOMDIR-like index and has folders below it: an export's root. */
+bool
+IsExportRoot(const std::string & directory)
+{
+  bool folders = false;
+  for (const auto & entry : std::filesystem::directory_iterator(directory))
+  {
+    if (entry.is_directory())
+    {
+      folders = true;
+    }
+    else if (entry.is_regular_file())
+    {
+      const DicomContent content = ClassifyDicomFile(entry.path().string());
+      if (content != DicomContent::Directory && content != DicomContent::NotDicom)
+      {
+        return false; // DICOM objects of its own: a series directory
+      }
+    }
+  }
+  return folders;
+}
+
+/** The series to read from a directory: its own (FindDicomSeries), or for an export's root the largest CT volume in
+ * the folders below it (never a localizer). notDicom: the directory's files that are not DICOM. */
+DicomSeries
+ChooseDicomSeries(const std::string &        directory,
+                  const std::string &        seriesUID,
+                  LoadedVolume &             loaded,
+                  std::vector<std::string> & notDicom)
+{
+  if (IsExportRoot(directory))
+  {
+    const auto tree = FindDicomSeriesTree(directory, loaded.Notes);
+    return SelectDicomVolume(tree, seriesUID, directory, loaded.Notes).Series;
+  }
+  const DicomSeriesList list = FindDicomSeries(directory);
+  loaded.Notes = list.Notes;
+  notDicom = list.NotDicom;
+  return SelectDicomSeries(list, seriesUID, directory, loaded.Notes);
+}
+
 /** A directory: its DICOM series (found, then one selected), read as a volume. */
 LoadedVolume
 LoadDicomDirectory(const std::string & directory, const std::string & seriesUID, const LoadProgress & progress)
 {
-  GdcmWarningCapture    quiet; // GDCM's own errors while scanning: pbdrr words the problems itself
-  LoadedVolume          loaded;
-  const DicomSeriesList list = FindDicomSeries(directory);
-  loaded.Notes = list.Notes;
-  const DicomSeries & chosen = SelectDicomSeries(list, seriesUID, directory, loaded.Notes);
+  GdcmWarningCapture       quiet; // GDCM's own errors while scanning: pbdrr words the problems itself
+  LoadedVolume             loaded;
+  std::vector<std::string> notDicom;
+  const DicomSeries        chosen = ChooseDicomSeries(directory, seriesUID, loaded, notDicom);
   if (chosen.Files.size() == 1)
   {
     // One file: a multi-frame volume, or a single slice (refused as 2D).
@@ -49,7 +93,7 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID,
   }
   else
   {
-    loaded.Image = ReadDicomSeries(chosen.Files, list.NotDicom, directory, progress);
+    loaded.Image = ReadDicomSeries(chosen.Files, notDicom, directory, progress);
   }
   const std::string name = chosen.UID.empty() ? std::string("without a Series Instance UID") : chosen.UID;
   loaded.Description = "DICOM series " + name + " (" + std::to_string(chosen.Files.size()) + " files) in " + directory;
@@ -103,5 +147,28 @@ LoadVolume(const std::string & input, const std::string & seriesUID, const LoadP
   {
     Fail("cannot read " + input + ": " + e.GetDescription());
   }
+}
+
+std::string
+ListDicomSeries(const std::string & root)
+{
+  struct stat status;
+  if (stat(root.c_str(), &status) != 0 || !S_ISDIR(status.st_mode))
+  {
+    Fail("--list-series: " + root + " is not a directory");
+  }
+  GdcmWarningCapture       quiet;
+  std::vector<std::string> notes;
+  const auto               series = FindDicomSeriesTree(root, notes);
+  if (series.empty())
+  {
+    Fail("no DICOM series in " + root + " or the folders below it" + (notes.empty() ? "" : ": " + notes.front()));
+  }
+  std::string text = FormatDicomSeriesTable(series);
+  for (const auto & note : notes)
+  {
+    text += "note: " + note + "\n";
+  }
+  return text;
 }
 } // namespace pbdrr

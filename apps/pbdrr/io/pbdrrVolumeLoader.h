@@ -45,6 +45,12 @@ using LoadProgress = std::function<void(size_t filesRead, size_t files)>;
  * std::runtime_error with the reason, as does a missing path, a 2D, 4D or vector image. */
 LoadedVolume
 LoadVolume(const std::string & input, const std::string & seriesUID, const LoadProgress & progress = {});
+
+/** `pbdrr --list-series ROOT`: the DICOM series in ROOT and the folders below it, a line each (kind, modality, size,
+ * tilt, description, UID, folder), then what was skipped. Throws std::runtime_error if ROOT is not a directory or
+ * holds no series. */
+std::string
+ListDicomSeries(const std::string & root);
 } // namespace pbdrr
 
 #endif
