@@ -21,7 +21,8 @@
 //   truncated.mha (a header whose pixel data is cut short), isdir.mha/ (a directory), nan.mha and inf.mha (a
 //   non-finite voxel), empty.mha (no voxels), float_extremes.mha (HU from -1e30 to 1e6), geometry files good and bad,
 //   dicom_jpeg2000_truncated (a copy of the JPEG 2000 series J2K with one slice cut short, if J2K is given), and DICOM
-//   series directories: dicom_good, dicom_missing, dicom_uneven, dicom_tilt, dicom_duplicate, dicom_orientation,
+//   series directories: dicom_good, dicom_missing, dicom_uneven, dicom_tilt (a gantry tilt: positions drift 0.5 mm
+//   in y per slice), dicom_tilt_uneven (the drift changes), dicom_duplicate, dicom_orientation,
 //   dicom_single, dicom_two_series, dicom_empty, dicom_text_only, dicom_truncated (a slice cut short),
 //   dicom_with_report (non-image objects beside the slices), dicom_with_dirfile (a DICOMDIR named DIRFILE beside the
 //   slices, as a Philips export has it), dicom_export (an export tree: DIRFILE, a localizer series, a volume and a
@@ -550,6 +551,9 @@ main(int argc, char * argv[])
       tilt[i].position[1] += 0.5 * i; // orientation stays axial, the positions drift in y: a tilted gantry
     }
     WriteSeries(FreshDirectory(root / "dicom_tilt"), uid + "4", tilt);
+    std::vector<SliceSpec> tiltUneven = tilt;
+    tiltUneven[6].position[1] += 0.3; // the drift changes between slices 5, 6 and 7: not one tilted grid
+    WriteSeries(FreshDirectory(root / "dicom_tilt_uneven"), uid + "23", tiltUneven);
 
     std::vector<SliceSpec> duplicate = AxialStack(8, 2.5);
     duplicate[5].position = duplicate[4].position;

@@ -78,10 +78,10 @@ ReadDicomSeries(const std::vector<std::string> & files,
                 const LoadProgress &             progress)
 {
   GdcmWarningCapture warnings;
-  double             spacing = 1.0;
+  SliceStack         stack;
   try
   {
-    spacing = CheckSliceStack(ScanSeries(files), "the series").Spacing;
+    stack = CheckSliceStack(ScanSeries(files), "the series", true);
   }
   catch (const std::runtime_error & e)
   {
@@ -93,6 +93,14 @@ ReadDicomSeries(const std::vector<std::string> & files,
   auto reader = itk::ImageSeriesReader<VolumeType>::New();
   reader->SetImageIO(itk::GDCMImageIO::New());
   reader->SetFileNames(files);
+  const Vector3 & shear = stack.ShearPerMillimetre;
+  if (shear[0] != 0.0 || shear[1] != 0.0 || shear[2] != 0.0)
+  {
+    // A gantry tilt is a sheared grid. By default ITK's series reader forces the third direction onto the slice
+    // normal, which places every slice but the first wrongly; without that, it takes the step from the first slice
+    // to the last: a non-orthogonal direction matrix, which the DRR filters map exactly (any invertible affine).
+    reader->ForceOrthogonalDirectionOff();
+  }
   if (progress)
   {
     // ImageSeriesReader reports its progress once per file read.
@@ -114,7 +122,7 @@ ReadDicomSeries(const std::vector<std::string> & files,
   VolumeType::Pointer image = reader->GetOutput();
   image->DisconnectPipeline();
   auto imageSpacing = image->GetSpacing();
-  imageSpacing[2] = spacing;
+  imageSpacing[2] = stack.StepLength(); // mm from slice to slice along the third axis: the slices' own, not GDCM's
   image->SetSpacing(imageSpacing);
   RefuseDamagedPixelData(warnings, files);
   return image;

@@ -60,13 +60,15 @@ CheckOneOrientationAndSize(const std::vector<Slice> & slices, const std::string 
 }
 
 /** The steps along the normal between the slices taken in `order` (increasing `depth`): each one a step forward,
- * none with a sideways shift. */
+ * without a sideways shift, or with allowShear the same shift per mm at every step (returned in shear). */
 std::vector<double>
 StepsAlongNormal(const std::vector<Slice> &  slices,
                  const std::vector<size_t> & order,
                  const std::vector<double> & depth,
                  const Vector3 &             normal,
-                 const std::string &         what)
+                 const std::string &         what,
+                 bool                        allowShear,
+                 Vector3 &                   shear)
 {
   std::vector<double> gaps;
   for (size_t i = 1; i < order.size(); ++i)
@@ -75,20 +77,38 @@ StepsAlongNormal(const std::vector<Slice> &  slices,
     const Vector3 & b = slices[order[i]].Position;
     const Vector3   step{ b[0] - a[0], b[1] - a[1], b[2] - a[2] };
     const double    along = Dot(step, normal);
-    const double    across = std::sqrt(std::max(0.0, Dot(step, step) - along * along));
     if (along < 1e-3)
     {
       Fail("two slices of " + what + " lie at the same position (" + Millimetres(depth[order[i]]) +
            " along the slice normal): duplicated or mixed series");
     }
-    if (across > 1e-3 * along + 0.01)
+    const Vector3 sideways{ step[0] - along * normal[0], step[1] - along * normal[1], step[2] - along * normal[2] };
+    const double  across = std::sqrt(Dot(sideways, sideways));
+    if (!allowShear && across > 1e-3 * along + 0.01)
     {
       Fail("the slice positions of " + what +
            " are not along the slice normal (gantry tilt or sheared series: each slice is shifted " +
            Millimetres(across) + " sideways per " + Millimetres(along) +
-           " step); pbdrr does not render tilted series: resample to an orthogonal grid first");
+           " step); pbdrr renders tilted series of slices, not of frames: resample to an orthogonal grid first");
+    }
+    if (i == 1)
+    {
+      shear = { sideways[0] / along, sideways[1] / along, sideways[2] / along };
+    }
+    const Vector3 expected{ shear[0] * along, shear[1] * along, shear[2] * along };
+    const Vector3 off{ sideways[0] - expected[0], sideways[1] - expected[1], sideways[2] - expected[2] };
+    if (allowShear && std::sqrt(Dot(off, off)) > 1e-3 * along + 0.01)
+    {
+      Fail("the sideways shift of the slices of " + what + " changes between slices " + std::to_string(i) + " and " +
+           std::to_string(i + 1) + " (" + Millimetres(across) + " per " + Millimetres(along) +
+           " step, not the tilt of the first step): not one tilted grid; pbdrr does not render it rather than render "
+           "it wrong");
     }
     gaps.push_back(along);
+  }
+  if (!allowShear)
+  {
+    shear = { 0.0, 0.0, 0.0 };
   }
   return gaps;
 }
@@ -124,7 +144,7 @@ CheckEvenSpacing(const std::vector<double> & gaps,
 } // namespace
 
 SliceStack
-CheckSliceStack(const std::vector<Slice> & slices, const std::string & what)
+CheckSliceStack(const std::vector<Slice> & slices, const std::string & what, bool allowShear)
 {
   SliceStack stack;
   if (slices.size() < 2)
@@ -148,8 +168,9 @@ CheckSliceStack(const std::vector<Slice> & slices, const std::string & what)
     order[i] = i;
   }
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return depth[a] < depth[b]; });
-  const std::vector<double> gaps = StepsAlongNormal(slices, order, depth, normal, what);
-  std::vector<double>       sorted = gaps;
+  const std::vector<double> gaps =
+    StepsAlongNormal(slices, order, depth, normal, what, allowShear, stack.ShearPerMillimetre);
+  std::vector<double> sorted = gaps;
   std::sort(sorted.begin(), sorted.end());
   stack.Spacing = sorted[sorted.size() / 2];
   CheckEvenSpacing(gaps, order, depth, stack.Spacing, what);
@@ -163,5 +184,11 @@ CheckSliceStack(const std::vector<Slice> & slices, const std::string & what)
   stack.Increasing = increasing;
   stack.Ordered = increasing || decreasing;
   return stack;
+}
+
+double
+SliceStack::StepLength() const
+{
+  return Spacing * std::sqrt(1.0 + Dot(ShearPerMillimetre, ShearPerMillimetre));
 }
 } // namespace pbdrr

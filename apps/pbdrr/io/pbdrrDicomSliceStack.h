@@ -42,13 +42,20 @@ struct SliceStack
   double  Spacing{ 1.0 };              // mm between neighbouring slices
   bool    Increasing{ true };          // given in increasing position along the normal
   bool    Ordered{ true };             // given in increasing or decreasing order, not shuffled
+  /** The slices' sideways shift per mm along the normal (a gantry tilt: a sheared grid), in increasing depth order;
+   * zero for an orthogonal stack. */
+  Vector3 ShearPerMillimetre{ { 0.0, 0.0, 0.0 } };
+  /** mm from one slice to the next: Spacing, lengthened by the shear. */
+  double
+  StepLength() const;
 };
 
-/** Checks that the slices form one regular 3D grid: one orientation and size, positions along the normal (no gantry
- * tilt), no duplicates, no gaps, even spacing; throws std::runtime_error with the reason otherwise. `what` names them
+/** Checks that the slices form one regular 3D grid: one orientation and size, no duplicates, no gaps, even spacing,
+ * and positions along the normal, or with allowShear shifted sideways by the same vector at every step (a gantry
+ * tilt: a sheared grid, ShearPerMillimetre); throws std::runtime_error with the reason otherwise. `what` names them
  * in messages ("the series", "the frames of F"). Fewer than 2 slices give the default stack. */
 SliceStack
-CheckSliceStack(const std::vector<Slice> & slices, const std::string & what);
+CheckSliceStack(const std::vector<Slice> & slices, const std::string & what, bool allowShear = false);
 } // namespace pbdrr
 
 #endif
