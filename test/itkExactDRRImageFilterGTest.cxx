@@ -188,14 +188,28 @@ public:
     m_IndexToPhysical = phantom.IndexToPhysical();
     m_PhysicalToIndex = MatrixType(m_IndexToPhysical.GetInverse());
     m_Centre = phantom.BlockCentre();
+    // The block is the parallelepiped c + sum_k s_k e_k, |s_k| <= h_k, e_k the unit direction columns; s = E^-1 (x - c)
+    // takes the rows of E^-1 (the dual basis: E^T when the directions are orthonormal, not when sheared).
+    MatrixType unitColumns;
     for (unsigned int a = 0; a < 3; ++a)
     {
-      VectorType axis;
+      double norm = 0.0;
       for (unsigned int r = 0; r < 3; ++r)
       {
-        axis[r] = phantom.direction[r][a];
+        norm += phantom.direction[r][a] * phantom.direction[r][a];
       }
-      m_Axes[a] = axis / axis.GetNorm();
+      for (unsigned int r = 0; r < 3; ++r)
+      {
+        unitColumns[r][a] = phantom.direction[r][a] / std::sqrt(norm);
+      }
+    }
+    const MatrixType dual(unitColumns.GetInverse());
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      for (unsigned int r = 0; r < 3; ++r)
+      {
+        m_Axes[a][r] = dual[a][r];
+      }
       m_HalfExtents[a] = 0.5 * phantom.spacing[a] * static_cast<double>(phantom.high[a] - phantom.low[a] + 1);
     }
   }
@@ -606,7 +620,8 @@ TEST(ExactDRRImageFilter, OffCentreBlock)
   Report("OffCentreBlock", worst);
 }
 
-// 3. The direction matrix is honoured: rotated, and permuted with det -1 and det +1, with a nonzero origin.
+// 3. The direction matrix is honoured: rotated, permuted with det -1 and det +1, and sheared (a gantry-tilted series,
+// non-orthogonal), with a nonzero origin.
 TEST(ExactDRRImageFilter, DirectionMatrixHonoured)
 {
   VectorType axis;
@@ -624,10 +639,19 @@ TEST(ExactDRRImageFilter, DirectionMatrixHonoured)
   cyclic[0][2] = 1.0;
   cyclic[1][0] = 1.0;
   cyclic[2][1] = 1.0;
+  // A gantry tilt: the image plane tilted by 18.5 degrees about x, the slices stepping along z (as a Philips series
+  // tilted -18.5 degrees reads): a sheared, non-orthogonal direction matrix. Then the same, rotated.
+  const double tilt = 18.5 * itk::Math::pi / 180.0;
+  MatrixType   sheared;
+  sheared.SetIdentity();
+  sheared[1][1] = std::cos(tilt);
+  sheared[2][1] = -std::sin(tilt);
   const std::vector<std::pair<std::string, MatrixType>> directions{
     { "rotated 30 deg about (1,2,3)", PointBasedDRRTest::RotationMatrix(axis, 30.0) },
     { "permuted det -1", swapXY },
     { "permuted det +1", cyclic },
+    { "sheared: gantry tilt 18.5 deg", sheared },
+    { "sheared and rotated", PointBasedDRRTest::RotationMatrix(axis, 30.0) * sheared },
   };
 
   double worst = 0.0;
