@@ -205,6 +205,46 @@ DRRProjectionGeometry::GetPixelCenter(double column, double row) const
   return this->GetDetectorCenter() + this->GetColumnDirection() * du + this->GetRowDirection() * dv;
 }
 
+DRRProjectionGeometry::ProjectionMatrixType
+DRRProjectionGeometry::GetProjectionMatrix() const
+{
+  // column = (u . (Y - O) - offset_u) / du + (cols - 1) / 2 at the detector-plane point Y of X, O the plane's origin;
+  // in perspective Y - O = SID / w (X - S) projected on the plane, w = -n . (X - S), so w column is linear in X.
+  const VectorType u = this->GetColumnDirection();
+  const VectorType v = this->GetRowDirection();
+  const double     centreColumn =
+    0.5 * (static_cast<double>(m_DetectorSize[0]) - 1.0) - m_DetectorOffset[0] / m_DetectorSpacing[0];
+  const double centreRow =
+    0.5 * (static_cast<double>(m_DetectorSize[1]) - 1.0) - m_DetectorOffset[1] / m_DetectorSpacing[1];
+  const bool           perspective = m_Projection == ProjectionEnum::Perspective;
+  const double         scale = perspective ? m_SourceToDetectorDistance : 1.0;
+  const PointType      anchor = perspective ? this->GetSourcePosition() : this->GetDetectorPlaneOrigin();
+  ProjectionMatrixType matrix;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    const double depth = perspective ? -m_Normal[a] : 0.0;
+    matrix[0][a] = scale * u[a] / m_DetectorSpacing[0] + centreColumn * depth;
+    matrix[1][a] = scale * v[a] / m_DetectorSpacing[1] + centreRow * depth;
+    matrix[2][a] = depth;
+  }
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    double constant = 0.0;
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      constant -= matrix[r][a] * anchor[a];
+    }
+    matrix[r][3] = constant;
+  }
+  if (!perspective)
+  {
+    matrix[0][3] += centreColumn;
+    matrix[1][3] += centreRow;
+    matrix[2][3] = 1.0;
+  }
+  return matrix;
+}
+
 DRRProjectionGeometry::DetectorVectorType
 DRRProjectionGeometry::GetDetectorOrigin2D() const
 {

@@ -960,3 +960,78 @@ TEST(DRRProjectionGeometryImageCenter, HonoursIndexSpacingOriginAndDirection)
   EXPECT_THROW(GeometryType::ComputeImageCenter(nullptr), itk::ExceptionObject);
   EXPECT_THROW(geometry->SetIsocenterToImageCenter(nullptr), itk::ExceptionObject);
 }
+
+// The 3 x 4 projection matrix sends every point of the ray through a pixel centre to that pixel's (column, row), for
+// both beams, an oblique view, offsets and non-square pixels, and a point off the ray elsewhere.
+TEST(DRRProjectionGeometryMatrix, MapsEveryPointOfAPixelsRayToThatPixel)
+{
+  for (const auto projection :
+       { itk::PointBasedDRREnums::Projection::Perspective, itk::PointBasedDRREnums::Projection::Parallel })
+  {
+    auto geometry = GeometryType::New();
+    geometry->SetProjection(projection);
+    geometry->SetSourceToIsocenterDistance(800.0);
+    geometry->SetSourceToDetectorDistance(1300.0);
+    geometry->SetGantryAngleInDegrees(37.0);
+    GeometryType::VectorType viewUp;
+    viewUp[0] = 0.1;
+    viewUp[1] = -0.2;
+    viewUp[2] = 1.0;
+    geometry->SetViewUp(viewUp);
+    GeometryType::PointType isocenter;
+    isocenter[0] = 12.0;
+    isocenter[1] = -40.0;
+    isocenter[2] = 7.5;
+    geometry->SetIsocenter(isocenter);
+    geometry->SetDetectorSize({ { 31, 17 } });
+    GeometryType::DetectorVectorType spacing, offset;
+    spacing[0] = 1.3;
+    spacing[1] = 2.1;
+    offset[0] = 14.0;
+    offset[1] = -6.5;
+    geometry->SetDetectorSpacing(spacing);
+    geometry->SetDetectorOffset(offset);
+    geometry->VerifyGeometry();
+    const auto matrix = geometry->GetProjectionMatrix();
+    const auto project = [&](const GeometryType::PointType & x, double & column, double & row) {
+      double p[3];
+      for (unsigned int r = 0; r < 3; ++r)
+      {
+        p[r] = matrix[r][3];
+        for (unsigned int a = 0; a < 3; ++a)
+        {
+          p[r] += matrix[r][a] * x[a];
+        }
+      }
+      column = p[0] / p[2];
+      row = p[1] / p[2];
+      return p[2];
+    };
+    const bool perspective = projection == itk::PointBasedDRREnums::Projection::Perspective;
+    for (const double column : { 0.0, 7.25, 30.0 })
+    {
+      for (const double row : { 0.0, 11.5, 16.0 })
+      {
+        const auto pixel = geometry->GetPixelCenter(column, row);
+        for (const double along : { 0.25, 0.8, 1.0 })
+        {
+          // Perspective: a point between the source and the pixel; parallel: a point on the pixel's line along n.
+          const auto   point = perspective
+                                 ? geometry->GetSourcePosition() + (pixel - geometry->GetSourcePosition()) * along
+                                 : pixel + geometry->GetNormal() * (1000.0 * along);
+          double       c = 0.0, r = 0.0;
+          const double w = project(point, c, r);
+          EXPECT_NEAR(c, column, 1e-9) << projection << " pixel " << column << ", " << row << " at " << along;
+          EXPECT_NEAR(r, row, 1e-9) << projection << " pixel " << column << ", " << row << " at " << along;
+          // Perspective: the third component is the depth from the source along -n, mm.
+          EXPECT_NEAR(w, perspective ? 1300.0 * along : 1.0, 1e-9);
+        }
+      }
+    }
+    // A point a millimetre beside the ray lands elsewhere.
+    const auto pixel = geometry->GetPixelCenter(7.25, 11.5);
+    double     c = 0.0, r = 0.0;
+    project(pixel + geometry->GetColumnDirection() * 1.0, c, r);
+    EXPECT_NEAR(c, 7.25 + 1.0 / 1.3, 1e-9) << projection;
+  }
+}

@@ -21,6 +21,7 @@
 
 #include "itkCommand.h"
 #include "itkDRRPolicies.h"
+#include "itkDRRProjectionGeometryFileIO.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRROutputConversion.h"
 #include "itkDRRSamplerFactory.h"
@@ -33,6 +34,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -397,6 +399,49 @@ WriteGray(const ProjectionType * lineIntegral, const itk::DRROutputConversion & 
   itk::WriteImage(gray, path);
 }
 
+/** Writes the view beside the image, OUTPUT without its extension + ".geometry.txt": the geometry file `--geometry`
+ * reads (every key, bit for bit) and, as comments, the 3 x 4 projection matrix, so that another tool can reproduce the
+ * view. Returns its path. */
+std::string
+WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry * geometry)
+{
+  std::string       stem = output;
+  const std::string lower = [&] {
+    std::string l = output;
+    std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
+    return l;
+  }();
+  const size_t slash = stem.find_last_of('/');
+  const size_t dot = stem.find_last_of('.');
+  if (lower.size() > 7 && lower.compare(lower.size() - 7, 7, ".nii.gz") == 0)
+  {
+    stem.resize(stem.size() - 7);
+  }
+  else if (dot != std::string::npos && (slash == std::string::npos || dot > slash))
+  {
+    stem.resize(dot);
+  }
+  const std::string  path = stem + ".geometry.txt";
+  std::ostringstream text;
+  text << "# the view of " << output << " (pbdrr --geometry reads it)\n";
+  const auto matrix = geometry->GetProjectionMatrix();
+  text << "# 3 x 4 projection matrix: room point X (mm) -> pixel (column, row) = (p0 / p2, p1 / p2), p = P [X; 1]\n";
+  text << std::setprecision(17);
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    text << "#   " << matrix[r][0] + 0.0 << " " << matrix[r][1] + 0.0 << " " << matrix[r][2] + 0.0 << " "
+         << matrix[r][3] + 0.0 << "\n"; // + 0.0: no negative zero
+  }
+  itk::DRRProjectionGeometryFileIO::WriteToStream(text, geometry);
+  std::ofstream file(path);
+  file << text.str();
+  if (!file.flush())
+  {
+    throw std::runtime_error("cannot write the view beside the image: " + path);
+  }
+  return path;
+}
+
 /** The output mode: --output-mode, or the output extension's own; refuses a mode the extension cannot hold. */
 std::string
 OutputMode(const Options & options)
@@ -611,6 +656,7 @@ Run(const Options & options)
                filter->GetOutput(),
                pointBased && !options.standardErrorOutput.empty() ? pointBased->GetStandardErrorOutput() : nullptr,
                notes);
+  const std::string geometryPath = WriteGeometryBeside(options.output, geometry);
   stages.emplace_back("write", SecondsSince(start));
 
   if (options.verbose)
@@ -649,7 +695,8 @@ Run(const Options & options)
   if (chatty)
   {
     std::cerr << "pbdrr: wrote " << options.output
-              << (options.standardErrorOutput.empty() ? "" : " and " + options.standardErrorOutput) << std::endl;
+              << (options.standardErrorOutput.empty() ? "" : " and " + options.standardErrorOutput) << ", its view in "
+              << geometryPath << std::endl;
   }
 }
 } // namespace pbdrr
