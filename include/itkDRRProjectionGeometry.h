@@ -229,11 +229,12 @@ public:
   DetectorVectorType
   GetDetectorOrigin2D() const;
 
+  /** A 3 x 4 projection matrix: homogeneous room point (mm) to homogeneous pixel (column, row, 1). */
+  using ProjectionMatrixType = Matrix<double, 3, 4>;
   /** The 3 x 4 projection matrix P of the view: a room point X (mm, homogeneous [X; 1]) projects to the pixel
    * (column, row) = (p0 / p2, p1 / p2) with p = P [X; 1], pixel indices as the output's (centre of pixel 0 at 0).
    * Perspective: a pinhole camera, p2 the depth from the source along -n (mm, positive in front of it). Parallel: an
    * affine camera, last row [0 0 0 1]. Valid after VerifyGeometry(); written beside every pbdrr image. */
-  using ProjectionMatrixType = Matrix<double, 3, 4>;
   ProjectionMatrixType
   GetProjectionMatrix() const;
 
