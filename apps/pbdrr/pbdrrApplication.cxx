@@ -241,7 +241,7 @@ public:
   void
   Show(float progress)
   {
-    if (!m_Enabled || SecondsSince(m_Start) < 0.5)
+    if (!this->Due())
     {
       return;
     }
@@ -266,7 +266,7 @@ public:
   void
   ShowCount(const char * what, size_t done, size_t total)
   {
-    if (!m_Enabled || SecondsSince(m_Start) < 0.5)
+    if (!this->Due())
     {
       return;
     }
@@ -287,6 +287,13 @@ public:
   }
 
 private:
+  /** On a terminal, once the work has run for half a second. */
+  bool
+  Due() const
+  {
+    return m_Enabled && SecondsSince(m_Start) >= 0.5;
+  }
+
   /** ", about 12 s left": the elapsed time scaled by what is left, once 2% is done (blank before, and at the end). */
   static std::string
   TimeLeft(float progress, double elapsedSeconds)
@@ -405,15 +412,10 @@ WriteGray(const ProjectionType * lineIntegral, const itk::DRROutputConversion & 
 std::string
 WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry * geometry)
 {
-  std::string       stem = output;
-  const std::string lower = [&] {
-    std::string l = output;
-    std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
-    return l;
-  }();
+  std::string  stem = output;
   const size_t slash = stem.find_last_of('/');
   const size_t dot = stem.find_last_of('.');
-  if (lower.size() > 7 && lower.compare(lower.size() - 7, 7, ".nii.gz") == 0)
+  if (EndsWith(Lowercase(output), ".nii.gz"))
   {
     stem.resize(stem.size() - 7);
   }
