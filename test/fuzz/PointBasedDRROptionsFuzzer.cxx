@@ -19,8 +19,8 @@
 // libFuzzer target: the bytes are a pbdrr command line (arguments separated by NUL or white space), given to
 // pbdrr::ParseCommandLine() (docs/fuzzing.md). Only pbdrr::UsageError and itk::ExceptionObject may escape; any other
 // exception, a crash or a sanitizer report is a finding (abort). An accepted command line must also hold what the
-// parser promises: an input and an output (unless --help or --version), finite numbers, whole sample counts in
-// [1, 2^40], lengths within [1e-6, 1e7] mm.
+// parser promises: an input and an output (unless --help, --version or --list-series ROOT), finite numbers, whole
+// sample counts in [1, 2^40], lengths within [1e-6, 1e7] mm.
 
 #include "pbdrrOptions.h"
 #include "itkMacro.h"
@@ -117,7 +117,7 @@ CheckAccepted(const pbdrr::Options & o, const std::vector<std::string> & argumen
       Finding(std::string("ParseCommandLine() accepted a command line whose ") + what, arguments);
     }
   };
-  if (!o.help && !o.version)
+  if (!o.help && !o.version && o.listSeries.empty())
   {
     check(!o.input.empty() && !o.output.empty(), "input or output is empty");
     check(!(o.energyKeV && o.muWater), "energy and mu-water are both set");
