@@ -38,6 +38,8 @@ struct DRRParallelBeam
   static constexpr const char * Description = "lines along the detector normal through every pixel, weight 1";
   /** No source: whole lines along the normal (DRRPointProjection's parallel path). */
   static constexpr bool HasSource = false;
+  /** No magnification. */
+  static constexpr bool MagnifiesRows = false;
 };
 } // namespace itk
 

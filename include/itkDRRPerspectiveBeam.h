@@ -31,9 +31,10 @@ namespace itk
  * DRRPointProjection; the exact projectors trace the same rays (DRRExactRayIntegrator).
  *
  * A beam policy provides who it is: Id (its enumerator), Name and Description (for the command line and the geometry
- * file's `projection` key), and HasSource (whether its rays start at a source point). A new beam is its own header, an
- * enumerator in PointBasedDRREnums::Projection, one line in DRRBeamPolicies (itkDRRPolicies.h), and its projection in
- * DRRPointProjection and DRRExactRayIntegrator.
+ * file's `projection` key), HasSource (whether its rays start at a source point) and MagnifiesRows (whether
+ * the rows' coordinate of a point is divided by its depth, as the columns' is when there is a source). A new beam is
+ * its own header, an enumerator in PointBasedDRREnums::Projection, one line in DRRBeamPolicies (itkDRRPolicies.h), and
+ * its projection in DRRPointProjection and DRRExactRayIntegrator.
  *
  * \ingroup PointBasedDRR
  */
@@ -47,6 +48,8 @@ struct DRRPerspectiveBeam
   static constexpr const char * Description = "rays from the source to every pixel, perspective weights";
   /** Rays start at a source point (projection and weights by DRRPointProjection's perspective path). */
   static constexpr bool HasSource = true;
+  /** Rows are magnified as columns are (a cone). */
+  static constexpr bool MagnifiesRows = true;
 };
 } // namespace itk
 

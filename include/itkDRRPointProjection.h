@@ -39,12 +39,13 @@ namespace itk
  *
  *   depth z = (x(p) - S) . (-n)      (mm, from the source along the detector normal; perspective)
  *   pu, pv  = (x(p) - S) . u, . v    (mm)
- *   column  = SID pu / z / du + c0    (perspective) or pu / du + c0 (parallel), c0 = (cols-1)/2 - offset_u/du
- *   weight  = (SID / z)^2 sqrt(1 + (pu/z)^2 + (pv/z)^2)   (perspective), 1 (parallel)
+ *   column  = SID pu / z / du + c0    (perspective, localizer) or pu / du + c0 (parallel), c0 = (cols-1)/2 -
+ * offset_u/du row     = SID pv / z / dv + r0    (perspective) or pv / dv + r0 (localizer, parallel) weight  = (SID /
+ * z)^2 sqrt(1 + (pu/z)^2 + (pv/z)^2)   (perspective), (SID / z) sqrt(1 + (pu/z)^2) (localizer), 1 (parallel)
  *
- * which are affine in p up to one division. A perspective point counts only for 0 < z <= SID (between source and
- * detector plane); points nearer the source than GetMinimumDepth() are dropped (DRRPointRenderer sets that depth when
- * the volume comes so near the source that its fixed-point sums could overflow, and reports it in
+ * which are affine in p up to one division. A perspective or localizer point counts only for 0 < z <= SID (between
+ * source and detector plane); points nearer the source than GetMinimumDepth() are dropped (DRRPointRenderer sets that
+ * depth when the volume comes so near the source that its fixed-point sums could overflow, and reports it in
  * DRRPointRenderer::Result::MinimumDepth).
  *
  * \sa DRRProjectionGeometry, DRRPointRenderer
@@ -67,11 +68,36 @@ public:
                      const MatrixType &            roomToVolumeMatrix,
                      const VectorType &            roomToVolumeOffset);
 
-  /** True for a perspective beam, false for a parallel one. */
+  /** True for a beam whose rays start at a source (perspective, localizer), false for a parallel one. */
   bool
   IsPerspective() const
   {
     return m_Perspective;
+  }
+
+  /** True when rows are magnified as columns are (a cone: perspective); false for a localizer (a fan across, parallel
+   * along the rows: its source moves with the row) and for a parallel beam. */
+  bool
+  MagnifiesRows() const
+  {
+    return m_MagnifiesRows;
+  }
+
+  /** A bound of the weight of every point at depth >= depth (mm) that lands on the detector (widened by a pixel):
+   * (SID / depth)^2 times the largest obliquity for a cone, SID / depth times it for a localizer. */
+  double
+  GetWeightBound(double depth) const
+  {
+    const double magnification = m_SID / depth;
+    return (m_MagnifiesRows ? magnification * magnification : magnification) * m_MaximumObliquity;
+  }
+
+  /** The depth (mm) below which a point's weight can exceed weight: the inverse of GetWeightBound(). */
+  double
+  GetDepthOfWeight(double weight) const
+  {
+    const double ratio = m_MaximumObliquity / weight;
+    return m_SID * (m_MagnifiesRows ? std::sqrt(ratio) : ratio);
   }
 
   /** Projects n points given as continuous voxel indices (x, y, z): column and row are continuous pixel indices
@@ -122,6 +148,24 @@ public:
     TReal minimumDepth = static_cast<TReal>(m_MinimumDepth);
     minimumDepth = minimumDepth < m_MinimumDepth ? std::nextafter(minimumDepth, std::numeric_limits<TReal>::infinity())
                                                  : minimumDepth;
+    if (!m_MagnifiesRows)
+    {
+      // A localizer: a fan across (columns), parallel along (rows); weight sqrt(SID^2 + u^2) / z.
+      const TReal inverseDV = static_cast<TReal>(m_InverseDV);
+      for (size_t i = 0; i < n; ++i)
+      {
+        const TReal pu = pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i];
+        const TReal pv = pv0 + gv0 * x[i] + gv1 * y[i] + gv2 * z[i];
+        const TReal depth = z0 + gz0 * x[i] + gz1 * y[i] + gz2 * z[i];
+        const bool  counts = (depth >= minimumDepth) & (depth <= sid);
+        const TReal inverseZ = one / depth;
+        const TReal tu = pu * inverseZ;
+        column[i] = counts ? tu * sidOverDU + columnShift : offDetector;
+        row[i] = pv * inverseDV + rowShift;
+        weight[i] = counts ? sid * inverseZ * std::sqrt(one + tu * tu) : zero;
+      }
+      return;
+    }
     for (size_t i = 0; i < n; ++i)
     {
       const TReal pu = pu0 + gu0 * x[i] + gu1 * y[i] + gu2 * z[i];
@@ -155,7 +199,7 @@ public:
       return;
     }
     column = pu / depth * m_SIDOverDU + m_ColumnShift;
-    row = pv / depth * m_SIDOverDV + m_RowShift;
+    row = m_MagnifiesRows ? pv / depth * m_SIDOverDV + m_RowShift : pv * m_InverseDV + m_RowShift;
   }
 
   /** Continuous voxel index -> room point (mm), through the volume's geometry and the transform. */
@@ -252,6 +296,7 @@ public:
 
 private:
   bool         m_Perspective;
+  bool         m_MagnifiesRows;
   unsigned int m_Columns;
   unsigned int m_Rows;
   double       m_SID;

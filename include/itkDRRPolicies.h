@@ -20,6 +20,7 @@
 
 #include "itkDRRBilinearSplat.h"
 #include "itkDRRBoxKernel.h"
+#include "itkDRRLocalizerBeam.h"
 #include "itkDRRNearestSplat.h"
 #include "itkDRRParallelBeam.h"
 #include "itkDRRPerspectiveBeam.h"
@@ -44,7 +45,7 @@ struct DRRPolicies
   /** Splats: how a projected point is deposited on the detector (the first is the default). */
   using Splats = DRRPolicyList<PointBasedDRREnums::Splat, DRRNearestSplat, DRRBilinearSplat>;
   /** Beams: how points and rays reach the detector (the first is the default). */
-  using Beams = DRRPolicyList<PointBasedDRREnums::Projection, DRRPerspectiveBeam, DRRParallelBeam>;
+  using Beams = DRRPolicyList<PointBasedDRREnums::Projection, DRRPerspectiveBeam, DRRParallelBeam, DRRLocalizerBeam>;
 };
 } // namespace itk
 

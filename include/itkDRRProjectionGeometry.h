@@ -47,7 +47,9 @@ namespace itk
  * - Source S = isocenter + SAD n. Detector centre C = S - SID n + offset_u u + offset_v v.
  * - Pixel (i, j) centre = C + (i - (cols - 1) / 2) du u + (j - (rows - 1) / 2) dv v.
  * - Perspective integrates from S to the pixel; parallel integrates the whole line through the pixel
- *   along n.
+ *   along n; a localizer (CT scout) integrates from S moved along v to the pixel's row, to the pixel (a fan across the
+ *   columns, parallel along the rows).
+ * - ColumnsMirrored counts the columns along -u; a 3 x 4 projection matrix sets the whole view (SetProjectionMatrix()).
  *
  * The 2D output image of a DRR filter has size (cols, rows), spacing (du, dv) and origin
  * (offset_u - (cols - 1) / 2 du, offset_v - (rows - 1) / 2 dv): its physical coordinates are detector-plane
@@ -58,8 +60,8 @@ namespace itk
  *
  * The explicit form (source, detector centre, column and row unit vectors) is accepted too and converted to
  * the same internal parameters; ReadGeometryFile() reads the `key value...` file format of docs/design.md section 5
- * (`projection`, `sad`, `sid`, `gantry`, `nrm`, `vup`, `isocenter`, `cols`, `rows`, `spacing`, `offset`), which
- * DRRProjectionGeometryFileIO reads and writes.
+ * (`projection`, `sad`, `sid`, `gantry`, `nrm`, `vup`, `isocenter`, `cols`, `rows`, `spacing`, `offset`, `mirror`),
+ * which DRRProjectionGeometryFileIO reads and writes.
  *
  * \sa DRRProjectionGeometryFileIO, PointBasedDRRImageFilter, ExactDRRImageFilter, DRRPointProjection
  * \ingroup PointBasedDRR
@@ -204,11 +206,19 @@ public:
   void
   VerifyGeometry() const;
 
-  /** Unit column direction u = unit(vup x n): increasing column index. Derived, like the quantities below: valid
-   * after VerifyGeometry(). */
+  ///@{
+  /** Mirrored columns: column index increases along -unit(vup x n) instead (rows unchanged), so that the source sees
+   * the detector's columns run right to left: a radiograph shown as seen from behind the detector, or a projection
+   * matrix whose pixel axes are left-handed (SetProjectionMatrix()). Default off (plastimatch's convention). */
+  itkSetMacro(ColumnsMirrored, bool);
+  itkGetConstMacro(ColumnsMirrored, bool);
+  itkBooleanMacro(ColumnsMirrored);
+  ///@}
+  /** Unit column direction u = unit(vup x n) (mirrored: its opposite): increasing column index. Derived, like the
+   * quantities below: valid after VerifyGeometry(). */
   VectorType
   GetColumnDirection() const;
-  /** Unit row direction v = u x n: increasing row index, away from the +vup edge. */
+  /** Unit row direction v = unit(vup x n) x n: increasing row index, away from the +vup edge (mirrored or not). */
   VectorType
   GetRowDirection() const;
   /** Source S = isocenter + SAD n, mm (a parallel beam has no source: this point still places the detector plane,
@@ -234,9 +244,28 @@ public:
   /** The 3 x 4 projection matrix P of the view: a room point X (mm, homogeneous [X; 1]) projects to the pixel
    * (column, row) = (p0 / p2, p1 / p2) with p = P [X; 1], pixel indices as the output's (centre of pixel 0 at 0).
    * Perspective: a pinhole camera, p2 the depth from the source along -n (mm, positive in front of it). Parallel: an
-   * affine camera, last row [0 0 0 1]. Valid after VerifyGeometry(); written beside every pbdrr image. */
+   * affine camera, last row [0 0 0 1]. Valid after VerifyGeometry(); written beside every pbdrr image. Throws for a
+   * beam that has none (HasProjectionMatrix()). */
   ProjectionMatrixType
   GetProjectionMatrix() const;
+  /** True if the beam is a pinhole or an affine camera (perspective, parallel); a localizer is neither. */
+  bool
+  HasProjectionMatrix() const;
+  /** Sets the view from a 3 x 4 projection matrix and the detector size (cols, rows): pixel (column, row) = (p0 / p2,
+   * p1 / p2), p = P [X; 1], X a room point in mm, pixel indices as the output's (centre of pixel 0 at 0).
+   *
+   * A pinhole P (its left 3 x 3 block M invertible) is K [R | t] with K = [fx s cx; 0 fy cy; 0 0 1]: the source is P's
+   * null vector -M^-1 p4, the normal -r3, the principal point (cx, cy) the foot of the normal, and the focal lengths
+   * fx, fy (pixels) give SID = fx du and dv = SID / fy, du being the column spacing in force (default 1 mm; the rays,
+   * and so the line integrals, do not depend on it). P's sign must make p2 positive in front of the source (as
+   * GetProjectionMatrix() writes it, and as K [R | t] with positive focal lengths does); R of determinant -1
+   * (left-handed pixel axes) sets ColumnsMirrored. The rest is the explicit form's: SAD = SID, the isocenter at the
+   * foot of the normal. An affine P (third row 0 0 0 p23) is a parallel beam: its first two rows are u / du and v / dv.
+   *
+   * Throws an ExceptionObject, changing nothing, for a non-finite or singular P, a skewed pixel grid (|s| > 1e-6 fx;
+   * affine: u, v not orthogonal), or a zero detector size. */
+  void
+  SetProjectionMatrix(const ProjectionMatrixType & matrix, const DetectorSizeType & detectorSize);
 
 protected:
   DRRProjectionGeometry();
@@ -255,6 +284,7 @@ private:
   DetectorSizeType   m_DetectorSize;
   DetectorVectorType m_DetectorSpacing;
   DetectorVectorType m_DetectorOffset;
+  bool               m_ColumnsMirrored{ false };
 };
 } // namespace itk
 

@@ -34,7 +34,7 @@ namespace itk
  *
  * | key | values | sets |
  * |---|---|---|
- * | `projection` | `perspective` or `parallel` | SetProjection() |
+ * | `projection` | `perspective`, `parallel` or `localizer` (the registered beams) | SetProjection() |
  * | `sad` | SAD, mm | SetSourceToIsocenterDistance() |
  * | `sid` | SID, mm | SetSourceToDetectorDistance() |
  * | `gantry` | angle, degrees | SetGantryAngleInDegrees() |
@@ -44,6 +44,7 @@ namespace itk
  * | `cols`, `rows` | whole number in [1, 1e6] | SetDetectorSize() |
  * | `spacing` | du dv, mm | SetDetectorSpacing() |
  * | `offset` | offset_u offset_v, mm | SetDetectorOffset() |
+ * | `mirror` | 0 or 1 | SetColumnsMirrored() |
  *
  * Reading applies the keys in file order to the geometry given, so keys not in the file keep the geometry's values;
  * an unknown key, a wrong number of values or a value that is not a finite number (DRRNumberParser) throws an

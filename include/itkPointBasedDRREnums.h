@@ -36,13 +36,16 @@ class PointBasedDRR_EXPORT PointBasedDRREnums
 {
 public:
   /** \brief Beam model. Perspective integrates from the source to the pixel; parallel integrates the whole
-   * line through the pixel along the detector normal. */
+   * line through the pixel along the detector normal; localizer is a fan across the table (columns) and parallel along
+   * it (rows): a CT scout, whose source moves with the table. */
   enum class Projection : uint8_t
   {
     /** Rays from the source S to every pixel (the default). */
     Perspective,
     /** Rays along -n, one line through every pixel; no source. */
-    Parallel
+    Parallel,
+    /** A CT localizer: rays from the source, moved along the rows' direction v to the pixel's row, to the pixel. */
+    Localizer
   };
 
   /** \brief Where inside its voxel a point is drawn, i.e. which continuous attenuation model is rendered.

@@ -254,7 +254,12 @@ DRRExactRayIntegrator::ComputeRaySegment(const DRRPointProjection & projection,
   PointType       end;
   if (projection.IsPerspective())
   {
+    // A localizer's source moves with the table, along the rows' direction, to the pixel's row.
     start = projection.GetSource();
+    if (!projection.MagnifiesRows())
+    {
+      start += projection.GetRowDirection() * ((pixel - start) * projection.GetRowDirection());
+    }
     end = pixel;
   }
   else

@@ -54,6 +54,8 @@ DRRPointProjection::DRRPointProjection(const DRRProjectionGeometry & geometry,
   // From the beam's registration (an unregistered enumerator throws rather than falling back to parallel).
   m_Perspective =
     DRRPolicies::Beams::Visit(geometry.GetProjection(), [](auto beam) { return decltype(beam)::HasSource; });
+  m_MagnifiesRows =
+    DRRPolicies::Beams::Visit(geometry.GetProjection(), [](auto beam) { return decltype(beam)::MagnifiesRows; });
   m_Columns = static_cast<unsigned int>(geometry.GetDetectorSize()[0]);
   m_Rows = static_cast<unsigned int>(geometry.GetDetectorSize()[1]);
   m_SID = geometry.GetSourceToDetectorDistance();
@@ -93,8 +95,9 @@ DRRPointProjection::DRRPointProjection(const DRRProjectionGeometry & geometry,
 
   const double halfWidthU = std::abs(geometry.GetDetectorOffset()[0]) + (0.5 * m_Columns + 1.0) * du;
   const double halfWidthV = std::abs(geometry.GetDetectorOffset()[1]) + (0.5 * m_Rows + 1.0) * dv;
-  m_MaximumObliquity =
-    std::sqrt(1.0 + (halfWidthU / m_SID) * (halfWidthU / m_SID) + (halfWidthV / m_SID) * (halfWidthV / m_SID));
+  // A localizer's obliquity is across the fan only.
+  const double tanV = m_MagnifiesRows ? halfWidthV / m_SID : 0.0;
+  m_MaximumObliquity = std::sqrt(1.0 + (halfWidthU / m_SID) * (halfWidthU / m_SID) + tanV * tanV);
   m_SmallestPositiveDepth = std::numeric_limits<double>::min();
   m_MinimumDepth = m_SmallestPositiveDepth;
 }

@@ -20,6 +20,7 @@
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkContinuousIndex.h"
 #include "itkMath.h"
+#include "vnl/vnl_det.h"
 
 #include <cmath>
 #include <limits>
@@ -77,6 +78,27 @@ DetectorFrame(const DRRProjectionGeometry::VectorType & columnDirection,
   n = Cross(v, u);
 }
 
+/** unit(vup x n): the column direction of plastimatch's convention. */
+DRRProjectionGeometry::VectorType
+UnmirroredColumnDirection(const DRRProjectionGeometry::VectorType & viewUp,
+                          const DRRProjectionGeometry::VectorType & normal)
+{
+  const DRRProjectionGeometry::VectorType u = Cross(viewUp, normal);
+  const double                            norm = u.GetNorm();
+  return norm > 0.0 ? DRRProjectionGeometry::VectorType(u / norm) : u;
+}
+
+template <typename TMatrix>
+DRRProjectionGeometry::VectorType
+MatrixRow(const TMatrix & matrix, unsigned int row)
+{
+  DRRProjectionGeometry::VectorType v;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    v[a] = matrix[row][a];
+  }
+  return v;
+}
 } // namespace
 
 DRRProjectionGeometry::DRRProjectionGeometry()
@@ -167,15 +189,14 @@ DRRProjectionGeometry::SetExplicitParallelGeometry(const PointType &  detectorCe
 DRRProjectionGeometry::VectorType
 DRRProjectionGeometry::GetColumnDirection() const
 {
-  const VectorType u = Cross(m_ViewUp, m_Normal);
-  const double     norm = u.GetNorm();
-  return norm > 0.0 ? VectorType(u / norm) : u;
+  const VectorType u = UnmirroredColumnDirection(m_ViewUp, m_Normal);
+  return m_ColumnsMirrored ? VectorType(-u) : u;
 }
 
 DRRProjectionGeometry::VectorType
 DRRProjectionGeometry::GetRowDirection() const
 {
-  return Cross(this->GetColumnDirection(), m_Normal);
+  return Cross(UnmirroredColumnDirection(m_ViewUp, m_Normal), m_Normal);
 }
 
 DRRProjectionGeometry::PointType
@@ -205,9 +226,130 @@ DRRProjectionGeometry::GetPixelCenter(double column, double row) const
   return this->GetDetectorCenter() + this->GetColumnDirection() * du + this->GetRowDirection() * dv;
 }
 
+bool
+DRRProjectionGeometry::HasProjectionMatrix() const
+{
+  return m_Projection != ProjectionEnum::Localizer;
+}
+
+void
+DRRProjectionGeometry::SetProjectionMatrix(const ProjectionMatrixType & matrix, const DetectorSizeType & detectorSize)
+{
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int c = 0; c < 4; ++c)
+    {
+      if (!std::isfinite(matrix[r][c]))
+      {
+        ThrowGeometryError("the projection matrix has a non-finite entry");
+      }
+    }
+  }
+  if (detectorSize[0] == 0 || detectorSize[1] == 0)
+  {
+    ThrowGeometryError("a projection matrix needs the detector's size (cols, rows), got zero");
+  }
+  const VectorType m1 = MatrixRow(matrix, 0), m2 = MatrixRow(matrix, 1), m3 = MatrixRow(matrix, 2);
+  const double     scale = std::max(m1.GetNorm(), m2.GetNorm());
+  const double     centreColumn = 0.5 * (static_cast<double>(detectorSize[0]) - 1.0);
+  const double     centreRow = 0.5 * (static_cast<double>(detectorSize[1]) - 1.0);
+  if (!(scale > 0.0))
+  {
+    ThrowGeometryError("the projection matrix is singular: its first two rows are zero");
+  }
+  if (!(m3.GetNorm() > 1e-12 * scale))
+  {
+    // An affine camera: column = a1 . X + b1, row = a2 . X + b2 once the last row is [0 0 0 1].
+    const double w = matrix[2][3];
+    if (!(std::abs(w) > 0.0))
+    {
+      ThrowGeometryError("the projection matrix is singular: its last row is zero");
+    }
+    const VectorType a1 = m1 / w, a2 = m2 / w;
+    const double     du = 1.0 / a1.GetNorm(), dv = 1.0 / a2.GetNorm();
+    const VectorType u = a1 * du, v = a2 * dv;
+    if (!(du > 0.0) || !(dv > 0.0) || !std::isfinite(du) || !std::isfinite(dv))
+    {
+      ThrowGeometryError("the affine projection matrix is singular: a row of its left block is zero");
+    }
+    if (std::abs(u * v) > orthogonalityTolerance)
+    {
+      ThrowGeometryError(
+        "the affine projection matrix has a skewed pixel grid (its first two rows are not orthogonal)");
+    }
+    const PointType centre =
+      PointType() + u * ((centreColumn - matrix[0][3] / w) * du) + v * ((centreRow - matrix[1][3] / w) * dv);
+    this->SetExplicitParallelGeometry(centre, u, v);
+    m_ColumnsMirrored = false;
+    m_DetectorSize = detectorSize;
+    m_DetectorSpacing[0] = du;
+    m_DetectorSpacing[1] = dv;
+    return;
+  }
+  // A pinhole: normalized so that the third row of M is the unit viewing direction r3 (p2 the depth in mm).
+  Matrix<double, 3, 3> M;
+  VectorType           p4;
+  const double         inverseNorm = 1.0 / m3.GetNorm();
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      M[r][a] = matrix[r][a] * inverseNorm;
+    }
+    p4[r] = matrix[r][3] * inverseNorm;
+  }
+  const double determinant = vnl_det(M.GetVnlMatrix());
+  if (!(std::abs(determinant) > 1e-12 * scale * scale * inverseNorm * inverseNorm) || !std::isfinite(determinant))
+  {
+    ThrowGeometryError("the projection matrix is singular: its left 3 x 3 block has no inverse");
+  }
+  const VectorType r3 = MatrixRow(M, 2);
+  const VectorType q2 = MatrixRow(M, 1);
+  const double     cy = q2 * r3;
+  VectorType       r2 = q2 - r3 * cy;
+  const double     fy = r2.GetNorm();
+  r2 /= fy;
+  const VectorType q1 = MatrixRow(M, 0);
+  const double     cx = q1 * r3;
+  const double     skew = (q1 - r3 * cx) * r2;
+  VectorType       r1 = q1 - r3 * cx - r2 * skew;
+  const double     fx = r1.GetNorm();
+  r1 /= fx;
+  if (std::abs(skew) > 1e-6 * fx)
+  {
+    ThrowGeometryError("the projection matrix has a skewed pixel grid (skew " + std::to_string(skew) + " against fx " +
+                       std::to_string(fx) + " pixels): not supported");
+  }
+  const VectorType null = -(Matrix<double, 3, 3>(M.GetInverse()) * p4);
+  PointType        source;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    source[a] = null[a];
+  }
+  const double du = m_DetectorSpacing[0];
+  const double sid = fx * du;
+  m_Projection = ProjectionEnum::Perspective;
+  m_ColumnsMirrored = r1 * Cross(r2, r3) < 0.0;
+  m_Normal = -r3;
+  m_ViewUp = -r2;
+  m_SourceToDetectorDistance = sid;
+  m_SourceToIsocenterDistance = sid;
+  m_Isocenter = source - m_Normal * sid;
+  m_DetectorSize = detectorSize;
+  m_DetectorSpacing[1] = sid / fy;
+  m_DetectorOffset[0] = (centreColumn - cx) * du;
+  m_DetectorOffset[1] = (centreRow - cy) * m_DetectorSpacing[1];
+  this->Modified();
+}
+
 DRRProjectionGeometry::ProjectionMatrixType
 DRRProjectionGeometry::GetProjectionMatrix() const
 {
+  if (!this->HasProjectionMatrix())
+  {
+    ThrowGeometryError(std::string("a ") + DRRPolicies::Beams::GetName(m_Projection) +
+                       " beam has no 3 x 4 projection matrix");
+  }
   // column = (u . (Y - O) - offset_u) / du + (cols - 1) / 2 at the detector-plane point Y of X, O the plane's origin;
   // in perspective Y - O = SID / w (X - S) projected on the plane, w = -n . (X - S), so w column is linear in X.
   const VectorType u = this->GetColumnDirection();
@@ -382,5 +524,6 @@ DRRProjectionGeometry::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "DetectorSize (cols, rows): " << m_DetectorSize << std::endl;
   os << indent << "DetectorSpacing (mm): " << m_DetectorSpacing << std::endl;
   os << indent << "DetectorOffset (mm): " << m_DetectorOffset << std::endl;
+  os << indent << "ColumnsMirrored: " << (m_ColumnsMirrored ? "On" : "Off") << std::endl;
 }
 } // namespace itk

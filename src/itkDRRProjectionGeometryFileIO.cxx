@@ -178,10 +178,20 @@ ApplyKey(GeometryType *                   geometry,
   {
     geometry->SetDetectorOffset(vector2());
   }
+  else if (key == "mirror")
+  {
+    expect(1);
+    if (values[0] != "0" && values[0] != "1")
+    {
+      ThrowGeometryError(where + "mirror must be 0 or 1, got '" + values[0] + "'");
+    }
+    geometry->SetColumnsMirrored(values[0] == "1");
+  }
   else
   {
-    ThrowGeometryError(where + "unknown key '" + key +
-                       "' (known: projection, sad, sid, gantry, nrm, vup, isocenter, cols, rows, spacing, offset)");
+    ThrowGeometryError(
+      where + "unknown key '" + key +
+      "' (known: projection, sad, sid, gantry, nrm, vup, isocenter, cols, rows, spacing, offset, mirror)");
   }
 }
 
@@ -319,6 +329,7 @@ DRRProjectionGeometryFileIO::WriteToStream(std::ostream & stream, const Geometry
   text << "rows " << FormatCount(geometry->GetDetectorSize()[1], "rows") << '\n';
   text << "spacing " << FormatNumbers(geometry->GetDetectorSpacing(), 2, "spacing") << '\n';
   text << "offset " << FormatNumbers(geometry->GetDetectorOffset(), 2, "offset") << '\n';
+  text << "mirror " << (geometry->GetColumnsMirrored() ? 1 : 0) << '\n';
   stream << text.str();
 }
 

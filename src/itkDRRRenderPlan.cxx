@@ -67,10 +67,10 @@ FixedPointExponent(double count, double bound)
 }
 } // namespace
 
-/** In perspective, the weight grows as (SID / z)^2 near the source; if the points (inside the continuous-index box
- * [lower, upper]) come that close, drops those nearer than the depth that keeps at least 20 fractional bits (the
- * dropped part of each ray is shorter than that depth), through the projection's minimum depth, and says so in the
- * result. */
+/** With a source, the weight grows as (SID / z)^2 (a localizer: SID / z) near the source; if the points (inside the
+ * continuous-index box [lower, upper]) come that close, drops those nearer than the depth that keeps at least 20
+ * fractional bits (the dropped part of each ray is shorter than that depth), through the projection's minimum depth,
+ * and says so in the result. */
 FixedPoint
 PlanFixedPoint(double                        numberOfSamples,
                double                        maximumWeight,
@@ -86,16 +86,14 @@ PlanFixedPoint(double                        numberOfSamples,
   {
     double nearest, farthest;
     projection.ComputeDepthRange(lower, upper, nearest, farthest);
-    const double sid = projection.GetSourceToDetectorDistance();
-    const double obliquity = projection.GetMaximumObliquity();
     const double largestAffordableWeight = std::ldexp(1.0, 42) / (N * maximumWeight);
-    const double depthCut = sid * std::sqrt(obliquity / largestAffordableWeight);
+    const double depthCut = projection.GetDepthOfWeight(largestAffordableWeight);
     // Only a volume whose depth range reaches into (0, depthCut) comes near the source; one wholly behind it does not.
     result.SourceNearVolume = nearest < depthCut && farthest > 0.0;
     const double minimumDepth = std::max(depthCut, nearest);
     projection.SetMinimumDepth(result.SourceNearVolume ? depthCut : 0.0);
     result.MinimumDepth = result.SourceNearVolume ? depthCut : 0.0;
-    contributionBound *= (sid / minimumDepth) * (sid / minimumDepth) * obliquity;
+    contributionBound *= projection.GetWeightBound(minimumDepth);
   }
   FixedPoint fixedPoint;
   fixedPoint.SumExponent = FixedPointExponent(N, contributionBound);

@@ -23,6 +23,7 @@
 #include "PointBasedDRRTestHelpers.h"
 
 #include "itkDRRNumberParser.h"
+#include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 
 #include <cmath>
@@ -94,6 +95,7 @@ ExpectSameGeometry(const GeometryType * actual, const GeometryType * expected, c
   EXPECT_EQ(actual->GetDetectorSize(), expected->GetDetectorSize()) << what;
   ExpectSameBits(actual->GetDetectorSpacing(), expected->GetDetectorSpacing(), 2, what + ": spacing");
   ExpectSameBits(actual->GetDetectorOffset(), expected->GetDetectorOffset(), 2, what + ": offset");
+  EXPECT_EQ(actual->GetColumnsMirrored(), expected->GetColumnsMirrored()) << what << ": mirror";
 }
 
 /** A geometry that differs from every geometry below in every field, so that a key Write() leaves out shows. */
@@ -111,6 +113,7 @@ MakeOtherGeometry()
   other->SetDetectorSize({ { 7, 9 } });
   other->SetDetectorSpacing(Vec2(0.125, 0.25));
   other->SetDetectorOffset(Vec2(-99.0, 99.0));
+  other->SetColumnsMirrored(true);
   return other;
 }
 
@@ -217,8 +220,10 @@ TEST(DRRProjectionGeometryFileIO, RoundTripRandomGeometries)
   };
   for (unsigned int trial = 0; trial < 2000; ++trial)
   {
-    auto geometry = GeometryType::New();
-    geometry->SetProjection(trial % 2 ? ProjectionEnum::Parallel : ProjectionEnum::Perspective);
+    auto         geometry = GeometryType::New();
+    const auto & beams = itk::DRRPolicies::Beams::GetEntries();
+    geometry->SetProjection(std::next(beams.begin(), trial % beams.size())->Id);
+    geometry->SetColumnsMirrored(trial % 5 == 1);
     geometry->SetSourceToIsocenterDistance(value());
     geometry->SetSourceToDetectorDistance(value());
     geometry->SetGantryAngleInDegrees(360.0 * normal(random));
@@ -390,13 +395,14 @@ TEST(DRRProjectionGeometryFileIO, ParseLineMessages)
   EXPECT_EQ(message("rows 1e6x"), "DRRProjectionGeometry: value '1e6x' of key 'rows' is not a finite number");
   EXPECT_EQ(message("vup 1 2"), "DRRProjectionGeometry: key 'vup' takes 3 value(s), got 2");
   EXPECT_EQ(message("projection fan", "g:1: "),
-            "DRRProjectionGeometry: g:1: projection must be 'perspective' or 'parallel', got 'fan'");
+            "DRRProjectionGeometry: g:1: projection must be 'perspective', 'parallel' or 'localizer', got 'fan'");
   EXPECT_EQ(message("nrm 0 0 0", "g:3: "),
             "DRRProjectionGeometry: g:3: key 'nrm': DRRProjectionGeometry: the normal (nrm) must be a finite, non-zero "
             "vector");
   EXPECT_EQ(message("focus 1"),
             "DRRProjectionGeometry: unknown key 'focus' (known: projection, sad, sid, gantry, nrm, "
-            "vup, isocenter, cols, rows, spacing, offset)");
+            "vup, isocenter, cols, rows, spacing, offset, mirror)");
+  EXPECT_EQ(message("mirror yes"), "DRRProjectionGeometry: mirror must be 0 or 1, got 'yes'");
   EXPECT_NO_THROW(IOType::ParseLine("rows 1000000 # the most", geometry));
   EXPECT_EQ(geometry->GetDetectorSize()[1], 1000000u);
 }

@@ -1035,3 +1035,272 @@ TEST(DRRProjectionGeometryMatrix, MapsEveryPointOfAPixelsRayToThatPixel)
     EXPECT_NEAR(c, 7.25 + 1.0 / 1.3, 1e-9) << projection;
   }
 }
+
+namespace
+{
+/** p = P [x; 1]: (column, row) and the third component. */
+double
+ApplyMatrix(const GeometryType::ProjectionMatrixType & matrix, const PointType & x, double & column, double & row)
+{
+  double p[3];
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    p[r] = matrix[r][3];
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      p[r] += matrix[r][a] * x[a];
+    }
+  }
+  column = p[0] / p[2];
+  row = p[1] / p[2];
+  return p[2];
+}
+
+GeometryType::Pointer
+ObliqueView(ProjectionEnum projection, bool mirrored)
+{
+  auto geometry = GeometryType::New();
+  geometry->SetProjection(projection);
+  geometry->SetSourceToIsocenterDistance(800.0);
+  geometry->SetSourceToDetectorDistance(1300.0);
+  geometry->SetGantryAngleInDegrees(37.0);
+  geometry->SetViewUp(Vec(0.1, -0.2, 1.0));
+  geometry->SetIsocenter(Pt(12.0, -40.0, 7.5));
+  geometry->SetDetectorSize({ { 31, 17 } });
+  GeometryType::DetectorVectorType spacing, offset;
+  spacing[0] = 1.3;
+  spacing[1] = 2.1;
+  offset[0] = 14.0;
+  offset[1] = -6.5;
+  geometry->SetDetectorSpacing(spacing);
+  geometry->SetDetectorOffset(offset);
+  geometry->SetColumnsMirrored(mirrored);
+  geometry->VerifyGeometry();
+  return geometry;
+}
+} // namespace
+
+// Mirrored columns: the same pixel grid counted from the other edge (rows unchanged), and its matrix follows.
+TEST(DRRProjectionGeometryMatrix, MirroredColumnsCountFromTheOtherEdge)
+{
+  const auto plain = ObliqueView(ProjectionEnum::Perspective, false);
+  const auto mirrored = ObliqueView(ProjectionEnum::Perspective, true);
+  ExpectNear3(mirrored->GetColumnDirection(), -plain->GetColumnDirection(), "mirrored u");
+  ExpectNear3(mirrored->GetRowDirection(), plain->GetRowDirection(), "rows unchanged");
+  ExpectNear3(mirrored->GetSourcePosition().GetVectorFromOrigin(),
+              plain->GetSourcePosition().GetVectorFromOrigin(),
+              "the same source");
+  // The detector centre moves to the mirror image of its offset; with zero offset along u the grids coincide, flipped.
+  GeometryType::DetectorVectorType offset = plain->GetDetectorOffset();
+  offset[0] = 0.0;
+  plain->SetDetectorOffset(offset);
+  mirrored->SetDetectorOffset(offset);
+  for (const double column : { 0.0, 4.0, 30.0 })
+  {
+    ExpectNear3(mirrored->GetPixelCenter(column, 3.0).GetVectorFromOrigin(),
+                plain->GetPixelCenter(30.0 - column, 3.0).GetVectorFromOrigin(),
+                "flipped grid");
+  }
+  double     column = 0.0, row = 0.0;
+  const auto pixel = mirrored->GetPixelCenter(5.0, 9.0);
+  ApplyMatrix(mirrored->GetProjectionMatrix(), pixel, column, row);
+  EXPECT_NEAR(column, 5.0, 1e-9);
+  EXPECT_NEAR(row, 9.0, 1e-9);
+}
+
+// A geometry set from its own projection matrix (scaled by any positive factor) is the same view: the same rays
+// through every pixel, the same mirror, and the matrix it gives back is the one given, normalized.
+TEST(DRRProjectionGeometryMatrix, SetFromItsOwnMatrixGivesTheSameView)
+{
+  for (const auto projection : { ProjectionEnum::Perspective, ProjectionEnum::Parallel })
+  {
+    for (const bool mirrored : { false, true })
+    {
+      if (projection == ProjectionEnum::Parallel && mirrored)
+      {
+        continue; // an affine camera's mirror is the same lines with u x v reversed: tested below
+      }
+      const auto original = ObliqueView(projection, mirrored);
+      auto       matrix = original->GetProjectionMatrix();
+      matrix *= 3.75;
+      auto fromMatrix = GeometryType::New();
+      fromMatrix->SetProjectionMatrix(matrix, original->GetDetectorSize());
+      fromMatrix->VerifyGeometry();
+      EXPECT_EQ(fromMatrix->GetProjection(), projection);
+      EXPECT_EQ(fromMatrix->GetColumnsMirrored(), mirrored);
+      const bool perspective = projection == ProjectionEnum::Perspective;
+      if (perspective)
+      {
+        ExpectNear3(fromMatrix->GetSourcePosition().GetVectorFromOrigin(),
+                    original->GetSourcePosition().GetVectorFromOrigin(),
+                    "source");
+      }
+      ExpectNear3(fromMatrix->GetNormal(), original->GetNormal(), "normal");
+      for (const double column : { 0.0, 7.25, 30.0 })
+      {
+        for (const double row : { 0.0, 11.5, 16.0 })
+        {
+          // The same ray: from the same source through both pixel centres (perspective), or along n (parallel).
+          const auto a = original->GetPixelCenter(column, row);
+          const auto b = fromMatrix->GetPixelCenter(column, row);
+          if (perspective)
+          {
+            const auto s = original->GetSourcePosition();
+            const auto da = (a - s) / (a - s).GetNorm();
+            const auto db = (b - s) / (b - s).GetNorm();
+            ExpectNear3(db, da, "ray direction");
+          }
+          else
+          {
+            const auto apart = b - a;
+            ExpectNear3(apart - original->GetNormal() * (apart * original->GetNormal()), Vec(0, 0, 0), "same line");
+          }
+        }
+      }
+      const auto   back = fromMatrix->GetProjectionMatrix();
+      const double scale = back[2][3] / matrix[2][3];
+      for (unsigned int r = 0; r < 3; ++r)
+      {
+        for (unsigned int c = 0; c < 4; ++c)
+        {
+          EXPECT_NEAR(back[r][c], matrix[r][c] * scale, 1e-9 * (1.0 + std::abs(back[r][c])))
+            << projection << " mirrored " << mirrored << " P[" << r << "][" << c << "]";
+        }
+      }
+    }
+  }
+}
+
+// A camera written as K [R | t] (DiffDRR, a calibrated C-arm): focal lengths fx != fy in pixels, the principal point
+// off the centre, and R of determinant -1 (left-handed pixel axes). Every room point projects as P says.
+TEST(DRRProjectionGeometryMatrix, PinholeFromIntrinsicsAndPose)
+{
+  const double angle = 0.4;
+  for (const double handedness : { 1.0, -1.0 })
+  {
+    // R: a rotation about (1, 2, 2) / 3, its first row times handedness.
+    const VectorType axis = Vec(1.0, 2.0, 2.0) / 3.0;
+    double           R[3][3];
+    for (unsigned int r = 0; r < 3; ++r)
+    {
+      for (unsigned int c = 0; c < 3; ++c)
+      {
+        const double cross = (r == c) ? 0.0 : ((c == (r + 1) % 3) ? -1.0 : 1.0) * axis[3 - r - c];
+        R[r][c] =
+          (r == c ? std::cos(angle) : 0.0) + (1.0 - std::cos(angle)) * axis[r] * axis[c] + std::sin(angle) * cross;
+      }
+    }
+    for (unsigned int c = 0; c < 3; ++c)
+    {
+      R[0][c] *= handedness;
+    }
+    const double                       fx = 1200.0, fy = 1100.0, cx = 300.5, cy = 250.0;
+    const double                       t[3] = { 5.0, -20.0, 900.0 };
+    const double                       K[3][3] = { { fx, 0.0, cx }, { 0.0, fy, cy }, { 0.0, 0.0, 1.0 } };
+    GeometryType::ProjectionMatrixType P;
+    for (unsigned int r = 0; r < 3; ++r)
+    {
+      for (unsigned int c = 0; c < 4; ++c)
+      {
+        double sum = 0.0;
+        for (unsigned int k = 0; k < 3; ++k)
+        {
+          sum += K[r][k] * (c < 3 ? R[k][c] : t[k]);
+        }
+        P[r][c] = sum;
+      }
+    }
+    auto geometry = GeometryType::New();
+    geometry->SetProjectionMatrix(P, { { 640, 480 } });
+    geometry->VerifyGeometry();
+    EXPECT_EQ(geometry->GetColumnsMirrored(), handedness < 0.0);
+    // The source is the camera centre -R^T t.
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      double centre = 0.0;
+      for (unsigned int k = 0; k < 3; ++k)
+      {
+        centre -= R[k][a] * t[k];
+      }
+      EXPECT_NEAR(geometry->GetSourcePosition()[a], centre, 1e-9);
+    }
+    // SID = fx du with du the spacing in force (1 mm), dv = SID / fy.
+    EXPECT_NEAR(geometry->GetSourceToDetectorDistance(), fx, 1e-9);
+    EXPECT_NEAR(geometry->GetDetectorSpacing()[1], fx / fy, 1e-12);
+    const auto back = geometry->GetProjectionMatrix();
+    for (const auto & x : { Pt(0, 0, 0), Pt(40, -30, 20), Pt(-70, 10, -50) })
+    {
+      double       c0 = 0.0, r0 = 0.0, c1 = 0.0, r1 = 0.0;
+      const double depth = ApplyMatrix(P, x, c0, r0);
+      EXPECT_GT(depth, 0.0);
+      EXPECT_NEAR(ApplyMatrix(back, x, c1, r1), depth, 1e-9 * depth);
+      EXPECT_NEAR(c1, c0, 1e-9);
+      EXPECT_NEAR(r1, r0, 1e-9);
+      // And the pixel's ray passes through x.
+      const auto pixel = geometry->GetPixelCenter(c0, r0);
+      const auto s = geometry->GetSourcePosition();
+      const auto toPixel = (pixel - s) / (pixel - s).GetNorm();
+      const auto toPoint = (x - s) / (x - s).GetNorm();
+      ExpectNear3(toPoint, toPixel, "ray through the point");
+    }
+  }
+}
+
+TEST(DRRProjectionGeometryMatrix, RefusesWhatIsNotACameraAndChangesNothing)
+{
+  const auto good = ObliqueView(ProjectionEnum::Perspective, false)->GetProjectionMatrix();
+  auto       geometry = ObliqueView(ProjectionEnum::Parallel, false);
+  const auto before = geometry->GetProjectionMatrix();
+  auto       skewed = good;
+  for (unsigned int c = 0; c < 4; ++c)
+  {
+    skewed[0][c] += 0.05 * good[1][c];
+  }
+  auto singular = good;
+  for (unsigned int c = 0; c < 4; ++c)
+  {
+    singular[1][c] = 2.0 * good[0][c] - good[2][c];
+  }
+  auto notFinite = good;
+  notFinite[1][2] = std::numeric_limits<double>::quiet_NaN();
+  GeometryType::ProjectionMatrixType zero;
+  zero.Fill(0.0);
+  const struct
+  {
+    const char *                       what;
+    GeometryType::ProjectionMatrixType matrix;
+    const char *                       message;
+  } cases[] = { { "skewed", skewed, "skewed" },
+                { "singular", singular, "singular" },
+                { "NaN", notFinite, "non-finite" },
+                { "zero", zero, "singular" } };
+  for (const auto & c : cases)
+  {
+    EXPECT_TRUE(Contains(ExceptionMessage(
+                           [&] {
+                             geometry->SetProjectionMatrix(c.matrix, { { 31, 17 } });
+                           },
+                           c.what),
+                         c.message))
+      << c.what;
+  }
+  EXPECT_TRUE(Contains(ExceptionMessage(
+                         [&] {
+                           geometry->SetProjectionMatrix(good, { { 0, 17 } });
+                         },
+                         "zero size"),
+                       "size"));
+  const auto after = geometry->GetProjectionMatrix();
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int c = 0; c < 4; ++c)
+    {
+      EXPECT_EQ(after[r][c], before[r][c]) << "a refused matrix changed the geometry";
+    }
+  }
+  // A localizer has no projection matrix.
+  geometry->SetProjection(ProjectionEnum::Localizer);
+  EXPECT_FALSE(geometry->HasProjectionMatrix());
+  EXPECT_TRUE(
+    Contains(ExceptionMessage([&] { geometry->GetProjectionMatrix(); }, "localizer"), "no 3 x 4 projection matrix"));
+}

@@ -325,10 +325,12 @@ void
 CheckUnbiased(const Scenario & scenario)
 {
   const unsigned int cols = 8, rows = 6;
-  const bool         perspective = scenario.projection == ProjectionEnum::Perspective;
-  const double       du = perspective ? 7.0 : 3.5, dv = perspective ? 8.0 : 4.0;
-  const auto         volume = MakePhantom<TVolume>(scenario.muInput, scenario.sheared);
-  ReferenceBuilder   builder(scenario, cols, rows, du, dv);
+  // Magnified axes get larger pixels (a localizer magnifies its columns only).
+  const bool       magnifiedColumns = scenario.projection != ProjectionEnum::Parallel;
+  const bool       magnifiedRows = scenario.projection == ProjectionEnum::Perspective;
+  const double     du = magnifiedColumns ? 7.0 : 3.5, dv = magnifiedRows ? 8.0 : 4.0;
+  const auto       volume = MakePhantom<TVolume>(scenario.muInput, scenario.sheared);
+  ReferenceBuilder builder(scenario, cols, rows, du, dv);
   // The midpoint rule converges at second order here (the line integral is continuous with kinks), so Richardson
   // extrapolation of 64 x 64 and 32 x 32 rays per pixel gives the reference, and its correction bounds its error.
   // A sheared grid puts more kinks inside the pixels: twice the rays keep the reference's error below the noise.
@@ -386,9 +388,12 @@ CheckUnbiased(const Scenario & scenario)
     const double ratio = stats.Variance[p] / stats.PredictedVariance[p];
     // The same skew at the shadow's edge leaves a sliver's variance unseen by most seeds: pooled below only.
     const bool sliver = scenario.controlVariate > 0 && std::abs(reference[p]) < 1e-2 * peak;
+    // A control variate's predicted variance is itself noisy: each seed's coarse image has a one-degree-of-freedom
+    // variance estimate, so the mean of 64 of them adds a relative variance of up to 2 / 64 to the ratio's.
+    const double ratioVariance = 2.0 / (seeds - 1.0) + (scenario.controlVariate > 0 ? 2.0 / seeds : 0.0);
     if (!sliver)
     {
-      EXPECT_NEAR(ratio, 1.0, zBound * std::sqrt(2.0 / (seeds - 1.0))) << scenario << " pixel " << p;
+      EXPECT_NEAR(ratio, 1.0, zBound * std::sqrt(ratioVariance)) << scenario << " pixel " << p;
     }
     ++pixelsWithSignal;
   }
