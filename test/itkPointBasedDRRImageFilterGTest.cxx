@@ -107,6 +107,7 @@ struct Scenario
   bool           reuse{ false };      // kept points, drawn at another pose, re-projected
   unsigned int   controlVariate{ 0 }; // F of the control variate (0: off)
   bool           sheared{ false };    // a non-orthogonal direction matrix (a gantry-tilted series)
+  bool           fromMatrix{ false }; // the view set from its 3 x 4 projection matrix, with mirrored columns
 };
 
 std::ostream &
@@ -115,12 +116,31 @@ operator<<(std::ostream & os, const Scenario & s)
   return os << s.sampler << (s.refine ? "+refine" : "") << (s.reuse ? "+reuse" : "")
             << (s.controlVariate ? "+cv" + std::to_string(s.controlVariate) : "") << "/" << s.projection << "/"
             << s.kernel << "/" << s.splat << (s.muInput ? "/mu-input" : "") << (s.transform ? "/affine" : "")
-            << (s.sheared ? "/sheared" : "");
+            << (s.sheared ? "/sheared" : "") << (s.fromMatrix ? "/mirrored-matrix" : "");
 }
 
 itk::DRRProjectionGeometry::Pointer
-MakeGeometry(ProjectionEnum projection, unsigned int cols, unsigned int rows, double du, double dv)
+MakeGeometry(ProjectionEnum projection,
+             unsigned int   cols,
+             unsigned int   rows,
+             double         du,
+             double         dv,
+             bool           fromMirroredMatrix = false)
 {
+  if (fromMirroredMatrix)
+  {
+    // The mirrored view's projection matrix, given back to a new geometry (SetProjectionMatrix keeps du and derives
+    // dv).
+    const auto mirrored = MakeGeometry(projection, cols, rows, du, dv);
+    mirrored->SetColumnsMirrored(true);
+    auto                   geometry = itk::DRRProjectionGeometry::New();
+    itk::Vector<double, 2> spacing;
+    spacing[0] = du;
+    spacing[1] = 1.0;
+    geometry->SetDetectorSpacing(spacing);
+    geometry->SetProjectionMatrix(mirrored->GetProjectionMatrix(), mirrored->GetDetectorSize());
+    return geometry;
+  }
   auto geometry = itk::DRRProjectionGeometry::New();
   geometry->SetProjection(projection);
   geometry->SetSourceToIsocenterDistance(50.0); // strong magnification change across the phantom
@@ -186,8 +206,12 @@ public:
     auto exact = ExactType::New();
     exact->SetInput(volume);
     this->Configure(exact.GetPointer());
-    exact->SetGeometry(
-      MakeGeometry(m_Scenario.projection, (m_Cols + 2) * fine, (m_Rows + 2) * fine, m_DU / fine, m_DV / fine));
+    exact->SetGeometry(MakeGeometry(m_Scenario.projection,
+                                    (m_Cols + 2) * fine,
+                                    (m_Rows + 2) * fine,
+                                    m_DU / fine,
+                                    m_DV / fine,
+                                    m_Scenario.fromMatrix));
     exact->SetReconstructionKernel(m_Scenario.kernel);
     exact->SetRaysPerPixelSide(1);
     exact->Update();
@@ -346,7 +370,7 @@ CheckUnbiased(const Scenario & scenario)
   const double peak = *std::max_element(reference.begin(), reference.end());
 
   const unsigned int seeds = 64;
-  auto               geometry = MakeGeometry(scenario.projection, cols, rows, du, dv);
+  auto               geometry = MakeGeometry(scenario.projection, cols, rows, du, dv, scenario.fromMatrix);
   const auto         stats =
     RenderSeeds(volume.GetPointer(), scenario, builder, geometry, WeightingEnum::Unbiased, 200000, seeds);
 
@@ -514,6 +538,54 @@ AllScenarios()
                         true });
   scenarios.push_back(
     { ProjectionEnum::Parallel, KernelEnum::Box, SplatEnum::Nearest, true, false, "level-alias", 0, false, 4, true });
+  // A view from a projection matrix with mirrored columns: points, kept points, the control variate; and an affine one.
+  for (const auto & sampler : { "stratified", "level-alias" })
+  {
+    scenarios.push_back({ ProjectionEnum::Perspective,
+                          KernelEnum::Box,
+                          SplatEnum::Nearest,
+                          false,
+                          false,
+                          sampler,
+                          0,
+                          false,
+                          0,
+                          false,
+                          true });
+  }
+  scenarios.push_back({ ProjectionEnum::Perspective,
+                        KernelEnum::Tent,
+                        SplatEnum::Bilinear,
+                        false,
+                        true,
+                        "stratified",
+                        0,
+                        true,
+                        0,
+                        false,
+                        true });
+  scenarios.push_back({ ProjectionEnum::Perspective,
+                        KernelEnum::Box,
+                        SplatEnum::Bilinear,
+                        false,
+                        false,
+                        "stratified",
+                        0,
+                        false,
+                        4,
+                        false,
+                        true });
+  scenarios.push_back({ ProjectionEnum::Parallel,
+                        KernelEnum::Box,
+                        SplatEnum::Nearest,
+                        false,
+                        false,
+                        "stratified",
+                        0,
+                        false,
+                        0,
+                        false,
+                        true });
   return scenarios;
 }
 
