@@ -16,12 +16,14 @@
  *
  *=========================================================================*/
 #include "pbdrrApplication.h"
+#include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
 #include "pbdrrVolumeLoader.h"
 
 #include "itkCommand.h"
 #include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
+#include "itkDRRProjectionMatrixFileIO.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRROutputConversion.h"
 #include "itkDRRSamplerFactory.h"
@@ -121,9 +123,86 @@ CheckWritable(const std::string & path)
   }
 }
 
+/** The flags that set a view by parts, which a whole view (--projection-matrix, --geometry-from) replaces. */
+std::vector<std::string>
+ViewFlagsGiven(const Options & options)
+{
+  std::vector<std::string>            given;
+  const std::pair<bool, const char *> flags[] = { { !options.geometryFile.empty(), "--geometry" },
+                                                  { options.sad.has_value(), "--sad" },
+                                                  { options.sid.has_value(), "--sid" },
+                                                  { options.gantryDegrees.has_value(), "--gantry" },
+                                                  { options.isocenter.has_value(), "--isocenter" },
+                                                  { options.normal.has_value(), "--nrm" },
+                                                  { options.viewUp.has_value(), "--vup" },
+                                                  { options.detectorOffset.has_value(), "--offset" },
+                                                  { options.projection.has_value(), "--projection/--parallel" } };
+  for (const auto & flag : flags)
+  {
+    if (flag.first)
+    {
+      given.push_back(flag.second);
+    }
+  }
+  return given;
+}
+
+/** The view of a projection matrix file: --size is required (a matrix does not say the detector's size), --spacing DU
+ * names the column pitch (the matrix gives the rows' pitch relative to it). */
+itk::DRRProjectionGeometry::Pointer
+MakeGeometryFromMatrix(const Options & options)
+{
+  if (!options.detectorSize)
+  {
+    throw UsageError(
+      "--projection-matrix needs --size COLS ROWS: a projection matrix does not say the detector's size");
+  }
+  auto matrixReader = itk::DRRProjectionMatrixFileIO::New();
+  matrixReader->SetFileName(options.projectionMatrixFile);
+  const auto matrix = matrixReader->Read();
+  auto       geometry = itk::DRRProjectionGeometry::New();
+  if (options.detectorSpacing)
+  {
+    itk::Vector<double, 2> spacing;
+    spacing[0] = (*options.detectorSpacing)[0];
+    spacing[1] = (*options.detectorSpacing)[1];
+    geometry->SetDetectorSpacing(spacing);
+  }
+  geometry->SetProjectionMatrix(matrix,
+                                { { static_cast<itk::SizeValueType>((*options.detectorSize)[0]),
+                                    static_cast<itk::SizeValueType>((*options.detectorSize)[1]) } });
+  geometry->VerifyGeometry();
+  return geometry;
+}
+
 itk::DRRProjectionGeometry::Pointer
 MakeGeometry(const Options & options, const VolumeType * volume)
 {
+  const bool matrix = !options.projectionMatrixFile.empty();
+  const bool localizer = !options.geometryFrom.empty();
+  if (matrix || localizer)
+  {
+    const std::string        whole = matrix ? "--projection-matrix" : "--geometry-from";
+    std::vector<std::string> conflicting = ViewFlagsGiven(options);
+    if (matrix && localizer)
+    {
+      conflicting.push_back("--geometry-from");
+    }
+    if (localizer && (options.detectorSize || options.detectorSpacing))
+    {
+      conflicting.push_back("--size/--spacing");
+    }
+    if (!conflicting.empty())
+    {
+      std::string list;
+      for (const auto & flag : conflicting)
+      {
+        list += (list.empty() ? "" : ", ") + flag;
+      }
+      throw UsageError(whole + " gives the whole view: it cannot be combined with " + list);
+    }
+    return matrix ? MakeGeometryFromMatrix(options) : ReadLocalizerView(options.geometryFrom).Geometry;
+  }
   auto geometry = itk::DRRProjectionGeometry::New();
   geometry->SetDetectorSize({ { 512, 512 } });
   geometry->SetDetectorSpacing(itk::Vector<double, 2>(1.2));
@@ -152,9 +231,9 @@ MakeGeometry(const Options & options, const VolumeType * volume)
     v[1] = a[1];
     return v;
   };
-  if (options.parallel)
+  if (options.projection)
   {
-    geometry->SetProjection(itk::PointBasedDRREnums::Projection::Parallel);
+    geometry->SetProjection(*options.projection);
   }
   if (options.sad)
   {
@@ -194,7 +273,7 @@ MakeGeometry(const Options & options, const VolumeType * volume)
     geometry->SetDetectorOffset(vector2(*options.detectorOffset));
   }
   geometry->VerifyGeometry();
-  if (geometry->GetProjection() == itk::PointBasedDRREnums::Projection::Perspective &&
+  if (itk::DRRPolicies::Beams::Visit(geometry->GetProjection(), [](auto beam) { return decltype(beam)::HasSource; }) &&
       !(geometry->GetSourceToDetectorDistance() > geometry->GetSourceToIsocenterDistance()))
   {
     // The render keeps what lies between the source and the detector: the volume would be behind it, the image empty.
@@ -426,13 +505,21 @@ WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry
   const std::string  path = stem + ".geometry.txt";
   std::ostringstream text;
   text << "# the view of " << output << " (pbdrr --geometry reads it)\n";
-  const auto matrix = geometry->GetProjectionMatrix();
-  text << "# 3 x 4 projection matrix: room point X (mm) -> pixel (column, row) = (p0 / p2, p1 / p2), p = P [X; 1]\n";
-  text << std::setprecision(17);
-  for (unsigned int r = 0; r < 3; ++r)
+  if (geometry->HasProjectionMatrix())
   {
-    text << "#   " << matrix[r][0] + 0.0 << " " << matrix[r][1] + 0.0 << " " << matrix[r][2] + 0.0 << " "
-         << matrix[r][3] + 0.0 << "\n"; // + 0.0: no negative zero
+    // The matrix in the format --projection-matrix reads, commented out (remove the '#   ' to use it).
+    text << "# 3 x 4 projection matrix: room point X (mm) -> pixel (column, row) = (p0 / p2, p1 / p2), p = P [X; 1]\n";
+    std::stringstream matrix;
+    itk::DRRProjectionMatrixFileIO::WriteToStream(matrix, geometry->GetProjectionMatrix());
+    for (std::string line; std::getline(matrix, line);)
+    {
+      text << "#   " << line << "\n";
+    }
+  }
+  else
+  {
+    text << "# a " << itk::DRRPolicies::Beams::GetName(geometry->GetProjection())
+         << " beam has no 3 x 4 projection matrix: the view is the keys below\n";
   }
   itk::DRRProjectionGeometryFileIO::WriteToStream(text, geometry);
   std::ofstream file(path);

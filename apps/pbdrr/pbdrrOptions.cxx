@@ -291,7 +291,11 @@ ParseCommandLine(const std::vector<std::string> & arguments)
                                                            PositiveLength(v[1], "--spacing", "pixel spacing") };
         } } },
     { "--offset", { 2, [&](const auto & v) { options.detectorOffset = Numbers<2>(v, "--offset"); } } },
-    { "--parallel", { 0, [&](const auto &) { options.parallel = true; } } },
+    { "--parallel", { 0, [&](const auto &) { options.projection = itk::PointBasedDRREnums::Projection::Parallel; } } },
+    { "--projection",
+      { 1, [&](const auto & v) { options.projection = Policy<itk::DRRPolicies::Beams>(v[0], "--projection"); } } },
+    { "--projection-matrix", { 1, [&](const auto & v) { options.projectionMatrixFile = v[0]; } } },
+    { "--geometry-from", { 1, [&](const auto & v) { options.geometryFrom = v[0]; } } },
     { "--samples", { 1, [&](const auto & v) { options.samples = ParseSampleCount(v[0]); } } },
     { "--sampler", { 1, [&](const auto & v) { options.sampler = OneOf(v[0], "--sampler", SamplerNames()); } } },
     { "--kernel",
@@ -518,7 +522,17 @@ Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = 
   --size COLS ROWS       detector pixels: columns first, then rows (default 512 512)
   --spacing DU DV        pixel size in mm along columns and rows (default 1.2 1.2)
   --offset OU OV         detector centre offset in mm along columns and rows (default 0 0)
-  --parallel             parallel beam along the normal instead of perspective
+  --parallel             parallel beam along the normal instead of perspective (--projection parallel)
+)" +
+           PolicyLines("--projection NAME",
+                       "the beam",
+                       itk::DRRPolicies::Beams::GetEntries(),
+                       itk::DRRPolicies::Beams::GetName(itk::DRRPolicies::Beams::GetEntries().front().Id)) +
+           R"(  --projection-matrix FILE
+                         the view from a 3 x 4 projection matrix (12 numbers, rows of 4; room mm -> pixel column,
+                         row): with --size, instead of the flags above; --spacing DU names the column pitch
+  --geometry-from FILE   the view and pixel grid of a CT localizer (DICOM), from its header: distances, position,
+                         orientation, pixel spacing (at the isocenter plane); instead of the flags above
 
 Rendering:
   --samples N            number of points: 1e7, 16M, 2.5G, 1000000 (default )" +

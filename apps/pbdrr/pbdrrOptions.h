@@ -48,16 +48,18 @@ struct Options
   std::string geometryFile;
   std::string seriesUID;
 
-  std::optional<double>                sad;
-  std::optional<double>                sid;
-  std::optional<double>                gantryDegrees;
-  std::optional<std::array<double, 3>> isocenter;
-  std::optional<std::array<double, 3>> normal;
-  std::optional<std::array<double, 3>> viewUp;
-  std::optional<std::array<double, 2>> detectorSize; // cols, rows
-  std::optional<std::array<double, 2>> detectorSpacing;
-  std::optional<std::array<double, 2>> detectorOffset;
-  bool                                 parallel{ false };
+  std::optional<double>                              sad;
+  std::optional<double>                              sid;
+  std::optional<double>                              gantryDegrees;
+  std::optional<std::array<double, 3>>               isocenter;
+  std::optional<std::array<double, 3>>               normal;
+  std::optional<std::array<double, 3>>               viewUp;
+  std::optional<std::array<double, 2>>               detectorSize; // cols, rows
+  std::optional<std::array<double, 2>>               detectorSpacing;
+  std::optional<std::array<double, 2>>               detectorOffset;
+  std::optional<itk::PointBasedDRREnums::Projection> projection; // --projection NAME, --parallel
+  std::string projectionMatrixFile; // --projection-matrix FILE: the view from a 3 x 4 matrix (with --size)
+  std::string geometryFrom;         // --geometry-from LOCALIZER.dcm: the localizer's own view and pixel grid
 
   uint64_t                                      samples{ itk::DRRPointRenderer::DefaultNumberOfSamples };
   std::string                                   sampler{ itk::DRRSamplerFactory::DefaultName };

@@ -235,7 +235,8 @@ TEST(PolicyRegistry, TheDefaultsAreTheSameEverywhere)
   using FilterType = itk::PointBasedDRRImageFilter<itk::Image<float, 3>, itk::Image<float, 2>>;
   EXPECT_STREQ(FilterType::New()->GetSampler()->GetNameOfClass(),
                itk::DRRSamplerFactory::Create(itk::DRRSamplerFactory::DefaultName)->GetNameOfClass());
-  EXPECT_FALSE(defaults.parallel);
+  EXPECT_FALSE(defaults.projection.has_value()); // the geometry's own default beam, the first registered
+  EXPECT_EQ(itk::DRRProjectionGeometry::New()->GetProjection(), itk::DRRPolicies::Beams::GetEntries().front().Id);
   EXPECT_EQ(itk::DRRPolicies::Beams::GetEntries().front().Id, itk::PointBasedDRREnums::Projection::Perspective);
 }
 

@@ -34,6 +34,7 @@
 #include "itkDRRMetropolisSampler.h"
 #include "itkDRRPaperHybridSampler.h"
 #include "itkDRRProjectionGeometryFileIO.h"
+#include "itkDRRProjectionMatrixFileIO.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkIdentityTransform.h"
@@ -288,7 +289,8 @@ ExerciseSetterGetter(T & object, const std::string & className)
     object.SetGantryAngleInDegrees(90.0);
     EXPECT_NEAR(object.GetNormal()[1], -1.0, 1e-12) << className;
   }
-  else if constexpr (std::is_base_of<itk::DRRProjectionGeometryFileIO, T>::value)
+  else if constexpr (std::is_base_of<itk::DRRProjectionGeometryFileIO, T>::value ||
+                     std::is_base_of<itk::DRRProjectionMatrixFileIO, T>::value)
   {
     object.SetFileName("geometry.txt");
     EXPECT_EQ(std::string(object.GetFileName()), "geometry.txt") << className;
