@@ -26,10 +26,14 @@
 //   dicom_single, dicom_two_series, dicom_empty, dicom_text_only, dicom_truncated (a slice cut short),
 //   dicom_with_report (non-image objects beside the slices), dicom_with_dirfile (a DICOMDIR named DIRFILE beside the
 //   slices, as a Philips export has it), dicom_export (an export tree: DIRFILE, a localizer series, a volume and a
-//   smaller series in folders) and multi-frame files: dicom_multiframe (and _descending,
+//   smaller series in folders), CT localizers (localizer_lateral.dcm, and _table_along_columns, _no_distances,
+//   _detector_inside, _axial), projection matrices (matrix_view.P.txt, the view of matrix_view.txt; matrix_two_rows,
+//   _row_of_3, _nan, _singular, _skewed) and multi-frame files: dicom_multiframe (and _descending,
 //   _uneven, _shuffled, _legacy, _nogroups, _nowhere).
 // The slice positions written into the DICOM files are read back with GDCM and checked, so a test that expects
 // "missing slice" really gets a series with a missing slice.
+#include "itkDRRProjectionGeometryFileIO.h"
+#include "itkDRRProjectionMatrixFileIO.h"
 #include "itkGDCMImageIO.h"
 #include "itkImage.h"
 #include "itkImageFileWriter.h"
@@ -352,6 +356,90 @@ WriteDicomDirectory(const fs::path & file)
   }
 }
 
+/** A CT localizer as a scanner writes it (the Philips surview of ../shared/data has this header): 32 columns x 24 rows
+ * at 1 mm in the isocenter plane x = 0, centred on the phantom, columns along +y and rows along -z (a lateral view),
+ * source 570 mm from the patient and 1040 mm from the detector. `edit` changes the data set before it is written. */
+void
+WriteLocalizer(const fs::path & file, const std::function<void(gdcm::DataSet &)> & edit = {})
+{
+  gdcm::Writer    writer;
+  gdcm::File &    dicom = writer.GetFile();
+  gdcm::DataSet & dataSet = dicom.GetDataSet();
+  const auto      text = [&](uint16_t group, uint16_t element, gdcm::VR::VRType vr, const std::string & value) {
+    dataSet.Insert(MakeElement(gdcm::Tag(group, element), vr, value));
+  };
+  text(0x0008, 0x0008, gdcm::VR::CS, "ORIGINAL\\PRIMARY\\LOCALIZER");
+  text(0x0008, 0x0016, gdcm::VR::UI, "1.2.840.10008.5.1.4.1.1.2");
+  text(0x0008, 0x0018, gdcm::VR::UI, studyUID + ".77.1");
+  text(0x0008, 0x0060, gdcm::VR::CS, "CT");
+  text(0x0018, 0x1110, gdcm::VR::DS, "1040");
+  text(0x0018, 0x1111, gdcm::VR::DS, "570");
+  text(0x0018, 0x1141, gdcm::VR::DS, "90");
+  text(0x0020, 0x000d, gdcm::VR::UI, studyUID);
+  text(0x0020, 0x000e, gdcm::VR::UI, studyUID + ".77");
+  text(0x0020, 0x0032, gdcm::VR::DS, "0\\-15.5\\11.5");
+  text(0x0020, 0x0037, gdcm::VR::DS, "0\\1\\0\\0\\0\\-1");
+  text(0x0028, 0x0004, gdcm::VR::CS, "MONOCHROME2");
+  text(0x0028, 0x0030, gdcm::VR::DS, "1\\1");
+  const auto unsignedShort = [&](uint16_t element, uint16_t value) {
+    gdcm::DataElement e(gdcm::Tag(0x0028, element));
+    e.SetVR(gdcm::VR::US);
+    e.SetByteValue(reinterpret_cast<const char *>(&value), 2);
+    dataSet.Insert(e);
+  };
+  unsignedShort(0x0002, 1);
+  unsignedShort(0x0010, 24);
+  unsignedShort(0x0011, 32);
+  unsignedShort(0x0100, 16);
+  unsignedShort(0x0101, 16);
+  unsignedShort(0x0102, 15);
+  unsignedShort(0x0103, 0);
+  std::vector<uint16_t> pixels(32 * 24, 1000);
+  gdcm::DataElement     pixelData(gdcm::Tag(0x7fe0, 0x0010));
+  pixelData.SetVR(gdcm::VR::OW);
+  pixelData.SetByteValue(reinterpret_cast<const char *>(pixels.data()), static_cast<uint32_t>(pixels.size() * 2));
+  dataSet.Insert(pixelData);
+  if (edit)
+  {
+    edit(dataSet);
+  }
+  dicom.GetHeader().SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
+  writer.SetCheckFileMetaInformation(true);
+  writer.SetFileName(file.string().c_str());
+  if (!writer.Write())
+  {
+    throw std::runtime_error("cannot write the DICOM localizer " + file.string());
+  }
+}
+
+/** Projection matrix files: the view of geometry_32.txt's kind (gantry 30, 16 x 16 at 1.2 mm) as a matrix, and
+ * matrices that are not one: two rows, a row of 3, a NaN, singular, skewed. */
+void
+WriteProjectionMatrices(const fs::path & root)
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetGantryAngleInDegrees(30.0);
+  geometry->SetDetectorSize({ { 16, 16 } });
+  geometry->SetDetectorSpacing(itk::Vector<double, 2>(1.2));
+  geometry->SetColumnsMirrored(true);
+  geometry->VerifyGeometry();
+  itk::DRRProjectionGeometryFileIO::Pointer geometryWriter = itk::DRRProjectionGeometryFileIO::New();
+  geometryWriter->SetFileName((root / "matrix_view.txt").string());
+  geometryWriter->Write(geometry);
+  const auto matrix = geometry->GetProjectionMatrix();
+  auto       matrixWriter = itk::DRRProjectionMatrixFileIO::New();
+  matrixWriter->SetFileName((root / "matrix_view.P.txt").string());
+  matrixWriter->Write(matrix);
+  std::ostringstream rows;
+  itk::DRRProjectionMatrixFileIO::WriteToStream(rows, matrix);
+  const std::string good = rows.str();
+  WriteText(root / "matrix_two_rows.txt", good.substr(0, good.find('\n', good.find('\n') + 1) + 1));
+  WriteText(root / "matrix_row_of_3.txt", "1 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  WriteText(root / "matrix_nan.txt", "# a NaN\n1 0 0 0\n0 nan 0 0\n0 0 1 10\n");
+  WriteText(root / "matrix_singular.txt", "1 2 3 4\n2 4 6 8\n0 0 1 100\n");
+  WriteText(root / "matrix_skewed.txt", "1000 300 0 0\n0 1000 0 0\n0 0 1 500\n");
+}
+
 /** The value of the multi-frame phantom: the series phantom, plus a marker in its first three slices, so that a
  * volume read upside down differs. */
 short
@@ -605,6 +693,19 @@ main(int argc, char * argv[])
         WriteSeries(directory, uid + number, AxialStack(number == "21" ? 8 : 5, 2.5), "I");
       }
     }
+
+    // CT localizers: good, and a header that is not one pbdrr can render on.
+    WriteLocalizer(root / "localizer_lateral.dcm");
+    WriteLocalizer(root / "localizer_table_along_columns.dcm", [](gdcm::DataSet & d) {
+      d.Replace(MakeElement(gdcm::Tag(0x0020, 0x0037), gdcm::VR::DS, "0\\0\\-1\\0\\1\\0"));
+    });
+    WriteLocalizer(root / "localizer_no_distances.dcm", [](gdcm::DataSet & d) { d.Remove(gdcm::Tag(0x0018, 0x1110)); });
+    WriteLocalizer(root / "localizer_detector_inside.dcm",
+                   [](gdcm::DataSet & d) { d.Replace(MakeElement(gdcm::Tag(0x0018, 0x1110), gdcm::VR::DS, "500")); });
+    WriteLocalizer(root / "localizer_axial.dcm", [](gdcm::DataSet & d) {
+      d.Replace(MakeElement(gdcm::Tag(0x0008, 0x0008), gdcm::VR::CS, "ORIGINAL\\PRIMARY\\AXIAL"));
+    });
+    WriteProjectionMatrices(root);
 
     // Multi-frame files: good (frames stored upwards and downwards; a legacy object placed by its top-level spacing),
     // and with frame positions that are uneven, out of order, absent from an enhanced object, or absent with no
