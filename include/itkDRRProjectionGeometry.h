@@ -235,6 +235,11 @@ public:
   /** Centre of pixel (column i, row j) in world coordinates, mm. Fractional indices are allowed. */
   PointType
   GetPixelCenter(double column, double row) const;
+  /** Where the ray through detector point (column, row) (fractional allowed) starts, mm: the source (perspective); the
+   * source carried along the rows to the point's row (localizer); for a parallel beam, the point 2 SID (at least 10 m)
+   * along n from the detector point, the line's far end on the source side. The ray ends at GetPixelCenter(). */
+  PointType
+  GetRayStart(double column, double row) const;
   /** Detector-plane coordinates (along u, along v, mm) of the centre of pixel (0, 0): the 2D output origin. */
   DetectorVectorType
   GetDetectorOrigin2D() const;

@@ -226,6 +226,25 @@ DRRProjectionGeometry::GetPixelCenter(double column, double row) const
   return this->GetDetectorCenter() + this->GetColumnDirection() * du + this->GetRowDirection() * dv;
 }
 
+DRRProjectionGeometry::PointType
+DRRProjectionGeometry::GetRayStart(double column, double row) const
+{
+  const PointType pixel = this->GetPixelCenter(column, row);
+  switch (m_Projection)
+  {
+    case ProjectionEnum::Perspective:
+      return this->GetSourcePosition();
+    case ProjectionEnum::Localizer:
+    {
+      const PointType  source = this->GetSourcePosition();
+      const VectorType v = this->GetRowDirection();
+      return source + v * ((pixel - source) * v);
+    }
+    default:
+      return pixel + m_Normal * std::max(2.0 * m_SourceToDetectorDistance, 1e4);
+  }
+}
+
 bool
 DRRProjectionGeometry::HasProjectionMatrix() const
 {

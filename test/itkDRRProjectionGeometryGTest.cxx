@@ -1304,3 +1304,38 @@ TEST(DRRProjectionGeometryMatrix, RefusesWhatIsNotACameraAndChangesNothing)
   EXPECT_TRUE(
     Contains(ExceptionMessage([&] { geometry->GetProjectionMatrix(); }, "localizer"), "no 3 x 4 projection matrix"));
 }
+
+// Every ray starts where its beam says: the source, the source carried along the rows (localizer), or far along n.
+TEST(DRRProjectionGeometryMatrix, RaysStartWhereTheirBeamSays)
+{
+  for (const auto projection : { ProjectionEnum::Perspective, ProjectionEnum::Localizer, ProjectionEnum::Parallel })
+  {
+    const auto   geometry = ObliqueView(projection, false);
+    const auto   source = geometry->GetSourcePosition();
+    const auto   v = geometry->GetRowDirection();
+    const double rows[] = { 0.0, 8.5, 16.0 };
+    for (const double row : rows)
+    {
+      const auto start = geometry->GetRayStart(3.0, row);
+      const auto pixel = geometry->GetPixelCenter(3.0, row);
+      if (projection == ProjectionEnum::Perspective)
+      {
+        ExpectNear3(start.GetVectorFromOrigin(), source.GetVectorFromOrigin(), "perspective: the source");
+      }
+      else if (projection == ProjectionEnum::Localizer)
+      {
+        // In the plane through the source normal to v... carried to the row: start - source is along v, and the ray is
+        // normal to v (the rows are parallel).
+        const auto moved = start - source;
+        ExpectNear3(moved - v * (moved * v), Vec(0, 0, 0), "localizer: moved along the rows only");
+        EXPECT_NEAR((pixel - start) * v, 0.0, 1e-9) << "localizer: the ray is normal to the rows";
+      }
+      else
+      {
+        const auto along = start - pixel;
+        ExpectNear3(along - geometry->GetNormal() * (along * geometry->GetNormal()), Vec(0, 0, 0), "parallel: along n");
+        EXPECT_GT(along * geometry->GetNormal(), 1000.0);
+      }
+    }
+  }
+}

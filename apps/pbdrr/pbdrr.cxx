@@ -18,6 +18,7 @@
 // pbdrr: digitally reconstructed radiographs from the command line (see pbdrr --help).
 #include "pbdrrApplication.h"
 #include "pbdrrMessages.h"
+#include "pbdrrRegisterCommand.h"
 #include "pbdrrVolumeLoader.h"
 #include "itkMacro.h"
 
@@ -29,6 +30,18 @@ main(int argc, char * argv[])
   pbdrr::InstallMessageWindow();
   try
   {
+    if (argc > 1 && std::string(argv[1]) == "register")
+    {
+      const auto options = pbdrr::ParseRegisterCommandLine(std::vector<std::string>(argv + 2, argv + argc));
+      pbdrr::SetQuietMessages(options.quiet);
+      if (options.help)
+      {
+        std::cout << pbdrr::RegisterHelpText();
+        return 0;
+      }
+      pbdrr::RunRegister(options);
+      return 0;
+    }
     const pbdrr::Options options = pbdrr::ParseCommandLine(std::vector<std::string>(argv + 1, argv + argc));
     pbdrr::SetQuietMessages(options.quiet);
     if (options.help)

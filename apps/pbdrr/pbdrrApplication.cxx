@@ -61,19 +61,6 @@ SecondsSince(Clock::time_point start)
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string
-Lowercase(std::string s)
-{
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
-
-bool
-EndsWith(const std::string & s, const std::string & suffix)
-{
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 /** The output kind an extension stands for: "png" (gray levels) or "float". Throws for unknown extensions. */
 std::string
 OutputKind(const std::string & path)

@@ -17,6 +17,8 @@
  *=========================================================================*/
 #include "pbdrrMessages.h"
 
+#include <algorithm>
+
 #include "itkObjectFactory.h"
 #include "itkOutputWindow.h"
 
@@ -99,5 +101,17 @@ void
 SetQuietMessages(bool quiet)
 {
   quietMessages = quiet;
+}
+std::string
+Lowercase(std::string s)
+{
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool
+EndsWith(const std::string & s, const std::string & suffix)
+{
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 } // namespace pbdrr

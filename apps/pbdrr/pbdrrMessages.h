@@ -43,6 +43,14 @@ FormatTriple(const TTriple & triple)
          FormatNumber(RoundedForDisplay(triple[2])) + "]";
 }
 
+/** s in lower case (ASCII). */
+std::string
+Lowercase(std::string s);
+
+/** True if s ends with suffix. */
+bool
+EndsWith(const std::string & s, const std::string & suffix);
+
 /** Routes ITK warnings to stderr as "pbdrr: warning: ..." (cleaned), or nowhere when quiet. */
 void
 InstallMessageWindow();

@@ -1,0 +1,90 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef pbdrrRegistration_h
+#define pbdrrRegistration_h
+
+#include "pbdrrVolumeLoader.h"
+
+#include "itkDRRProjectionGeometry.h"
+#include "itkImage.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pbdrr
+{
+/** An X-ray to register to: its image (2D, any intensity: bright bone or dark; MONOCHROME1 is inverted on reading) and
+ * its view, whose pixel grid is the image's. */
+struct XRay
+{
+  itk::Image<float, 2>::Pointer       Image;
+  itk::DRRProjectionGeometry::Pointer Geometry;
+  std::string                         Description;
+};
+
+/** Reads an X-ray: a CT localizer's DICOM file with its view from its header (ReadLocalizerView), or any 2D image with
+ * a view from a geometry file or a projection matrix file (one of the two, not both). Throws std::runtime_error if the
+ * image is not 2D, its size is not the view's, or a localizer's header does not give its view. */
+XRay
+ReadXRay(const std::string & image, const std::string & geometryFile, const std::string & matrixFile);
+
+/** What a registration does: the rigid pose of the CT that makes its DRRs most like the X-rays.
+ *
+ * The pose is the CT moved in the room: x -> R (x - c) + c + t, c the centre of the CT's grid, R =
+ * itk::Euler3DTransform's rotation of the angles (rx, ry, rz) (about z, then x, then y); identity is where the CT's own
+ * frame of reference puts it. The similarity is the normalized cross-correlation (NCC) of DRR and X-ray over the pixels
+ * whose rays cross the CT's grid (the field both cover), averaged over the X-rays: it ignores the X-ray's gain, offset
+ * and units. Powell's method (itk::PowellOptimizer, derivative-free) maximizes it on each level of a multi-resolution
+ * schedule (the detector binned shrink x shrink, the X-ray block-averaged alike). */
+struct RegistrationSettings
+{
+  std::array<double, 6> StartPose{}; // tx ty tz (mm) rx ry rz (degrees)
+  std::vector<unsigned> Shrink{ 4, 2 };
+  bool                  Exact{ false }; // the exact Siddon projector instead of kept points
+  uint64_t              Samples{ 4000000 };
+  uint64_t              Seed{ 0 };
+  double                MaxSeconds{ 0.0 }; // 0: no limit
+  unsigned              Threads{ 0 };
+  bool                  Verbose{ false };
+};
+
+/** The outcome of a registration. */
+struct RegistrationResult
+{
+  std::array<double, 6>                      Pose{}; // tx ty tz (mm) rx ry rz (degrees)
+  double                                     StartSimilarity{ 0.0 };
+  double                                     Similarity{ 0.0 }; // NCC at full resolution, mean over the X-rays
+  unsigned                                   Evaluations{ 0 };
+  double                                     Seconds{ 0.0 };
+  bool                                       StoppedByTime{ false };
+  std::vector<itk::Image<float, 2>::Pointer> FinalDRRs; // at full resolution, one per X-ray
+  std::vector<std::vector<uint8_t>>          Masks;     // the field both cover, per X-ray (1: counted)
+};
+
+/** Registers the CT volume (HU) to the X-rays. */
+RegistrationResult
+RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, const RegistrationSettings & settings);
+
+/** The normalized cross-correlation of a and b over the pixels where mask is 1 (0 if either is constant there). */
+double
+MaskedNormalizedCorrelation(const float * a, const float * b, const std::vector<uint8_t> & mask);
+} // namespace pbdrr
+
+#endif
