@@ -384,7 +384,7 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
     {
       filters[x].Exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
       filters[x].Exact->SetInput(volume);
-      filters[x].Exact->SetRaysPerPixelSide(1);
+      filters[x].Exact->SetRaysPerPixelSide(settings.ExactRaysPerSide);
     }
     else
     {

@@ -58,6 +58,9 @@ struct RegistrationSettings
   std::array<double, 6> StartPose{}; // tx ty tz (mm) rx ry rz (degrees)
   std::vector<unsigned> Shrink{ 4, 2 };
   bool                  Exact{ false }; // the exact Siddon projector instead of kept points
+  /** The exact projector's rays per pixel side: a pixel's value is the average of k x k rays, as a detector pixel
+   * integrates (one ray samples a point: on sharp edges its NCC optimum is off by tenths of a degree). */
+  unsigned ExactRaysPerSide{ 2 };
   uint64_t              Samples{ 4000000 };
   uint64_t              Seed{ 0 };
   double                MaxSeconds{ 0.0 }; // 0: no limit

@@ -1,0 +1,181 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// pbdrr register's engine (pbdrrRegistration): the similarity, and the pose it finds on X-rays rendered at a known pose
+// of an asymmetric phantom, seen by a CT localizer (a lateral scout) and by an AP cone beam.
+#include "pbdrrRegistration.h"
+
+#include "itkEuler3DTransform.h"
+#include "itkExactDRRImageFilter.h"
+#include "gtest/gtest.h"
+
+#include <cmath>
+#include <vector>
+
+namespace
+{
+using ProjectionType = itk::Image<float, 2>;
+using GeometryType = itk::DRRProjectionGeometry;
+
+/** 48 x 40 x 32 voxels of 2 mm, HU: a soft-tissue ellipsoid in air with three bone blocks placed asymmetrically. */
+pbdrr::VolumeType::Pointer
+MakePhantom()
+{
+  auto volume = pbdrr::VolumeType::New();
+  volume->SetRegions(pbdrr::VolumeType::SizeType{ { 48, 40, 32 } });
+  volume->SetSpacing(2.0);
+  double origin[3] = { -47.0, -39.0, -31.0 };
+  volume->SetOrigin(origin);
+  volume->Allocate();
+  for (unsigned z = 0; z < 32; ++z)
+  {
+    for (unsigned y = 0; y < 40; ++y)
+    {
+      for (unsigned x = 0; x < 48; ++x)
+      {
+        const double px = -47.0 + 2.0 * x, py = -39.0 + 2.0 * y, pz = -31.0 + 2.0 * z;
+        float        hu = (px * px / 1936.0 + py * py / 1296.0 + pz * pz / 784.0) < 1.0 ? 40.0f : -1000.0f;
+        const bool   boneA = px > -30 && px < -10 && py > -20 && py < 5 && pz > -10 && pz < 20;
+        const bool   boneB = px > 5 && px < 25 && py > 10 && py < 20 && pz > -25 && pz < -5;
+        const bool   boneC = px > 15 && px < 30 && py > -25 && py < -10 && pz > 5 && pz < 15;
+        hu = boneA || boneB || boneC ? 1200.0f : hu;
+        volume->SetPixel({ { x, y, z } }, hu);
+      }
+    }
+  }
+  return volume;
+}
+
+GeometryType::Pointer
+LateralLocalizer()
+{
+  auto geometry = GeometryType::New();
+  geometry->SetProjection(itk::PointBasedDRREnums::Projection::Localizer);
+  geometry->SetSourceToIsocenterDistance(570.0);
+  geometry->SetSourceToDetectorDistance(1040.0);
+  geometry->SetDetectorSize({ { 64, 48 } });
+  GeometryType::DetectorVectorType spacing;
+  spacing[0] = 1.75 * 1040.0 / 570.0;
+  spacing[1] = 1.75;
+  geometry->SetDetectorSpacing(spacing);
+  return geometry;
+}
+
+GeometryType::Pointer
+AnteriorCone()
+{
+  auto geometry = GeometryType::New();
+  geometry->SetGantryAngleInDegrees(90.0);
+  geometry->SetDetectorSize({ { 64, 48 } });
+  geometry->SetDetectorSpacing(itk::Vector<double, 2>(3.0));
+  return geometry;
+}
+
+/** The X-ray: the exact DRR (2 x 2 rays per pixel) of the phantom moved by pose (tx ty tz mm, rx ry rz degrees). */
+pbdrr::XRay
+RenderXRay(const pbdrr::VolumeType * volume, GeometryType * geometry, const std::array<double, 6> & pose)
+{
+  auto euler = itk::Euler3DTransform<double>::New();
+  euler->SetCenter(GeometryType::ComputeImageCenter(volume));
+  euler->SetRotation(pose[3] * M_PI / 180.0, pose[4] * M_PI / 180.0, pose[5] * M_PI / 180.0);
+  itk::Euler3DTransform<double>::OutputVectorType translation;
+  for (unsigned k = 0; k < 3; ++k)
+  {
+    translation[k] = pose[k];
+  }
+  euler->SetTranslation(translation);
+  auto filter = itk::ExactDRRImageFilter<pbdrr::VolumeType, ProjectionType>::New();
+  filter->SetInput(volume);
+  filter->SetGeometry(geometry);
+  filter->SetTransform(euler->GetInverseTransform());
+  filter->SetRaysPerPixelSide(2);
+  filter->Update();
+  ProjectionType::Pointer image = filter->GetOutput();
+  image->DisconnectPipeline();
+  return { image, geometry, "synthetic" };
+}
+
+void
+ExpectPose(const std::array<double, 6> & found, const std::array<double, 6> & truth, double mm, double degrees)
+{
+  for (unsigned k = 0; k < 6; ++k)
+  {
+    EXPECT_NEAR(found[k], truth[k], k < 3 ? mm : degrees) << "pose component " << k;
+  }
+}
+} // namespace
+
+TEST(PbdrrRegistration, NormalizedCorrelationIsBlindToGainAndOffsetAndSeesSign)
+{
+  const std::vector<float>   a{ 1, 4, 2, 8, 5, 7, 100 };
+  std::vector<float>         b(a.size()), c(a.size());
+  const std::vector<uint8_t> mask{ 1, 1, 1, 1, 1, 1, 0 }; // the last pixel is outside the field
+  for (size_t p = 0; p < a.size(); ++p)
+  {
+    b[p] = 3.0f * a[p] + 2.0f;
+    c[p] = -a[p];
+  }
+  b.back() = -1000.0f;
+  EXPECT_NEAR(pbdrr::MaskedNormalizedCorrelation(a.data(), b.data(), mask), 1.0, 1e-12);
+  EXPECT_NEAR(pbdrr::MaskedNormalizedCorrelation(a.data(), c.data(), mask), -1.0, 1e-12);
+  const std::vector<float> flat(a.size(), 5.0f);
+  EXPECT_EQ(pbdrr::MaskedNormalizedCorrelation(a.data(), flat.data(), mask), 0.0);
+  EXPECT_EQ(pbdrr::MaskedNormalizedCorrelation(a.data(), b.data(), std::vector<uint8_t>(a.size(), 0)), 0.0);
+}
+
+// From the identity, the pose the X-rays were rendered at: exact projector and kept points, one localizer and an AP
+// view.
+TEST(PbdrrRegistration, FindsThePoseTheXRaysWereRenderedAt)
+{
+  const auto                     volume = MakePhantom();
+  const std::array<double, 6>    truth{ { 3.0, -2.0, 1.5, 2.0, -1.5, 2.5 } };
+  const std::vector<pbdrr::XRay> xrays{ RenderXRay(volume, LateralLocalizer(), truth),
+                                        RenderXRay(volume, AnteriorCone(), truth) };
+  pbdrr::RegistrationSettings    settings;
+  settings.Shrink = { 2, 1 };
+  settings.Exact = true;
+  const auto exact = pbdrr::RegisterToXRays(volume, xrays, settings);
+  ExpectPose(exact.Pose, truth, 0.05, 0.05);
+  EXPECT_GT(exact.Similarity, 0.999);
+  EXPECT_LT(exact.StartSimilarity, exact.Similarity);
+  ASSERT_EQ(exact.FinalDRRs.size(), 2u);
+  EXPECT_EQ(exact.FinalDRRs[0]->GetLargestPossibleRegion().GetSize()[0], 64u);
+
+  settings.Exact = false;
+  settings.Samples = 2000000;
+  const auto points = pbdrr::RegisterToXRays(volume, xrays, settings);
+  ExpectPose(points.Pose, truth, 0.5, 0.5);
+  EXPECT_GT(points.Similarity, 0.99);
+}
+
+// The time limit stops the search with the best pose so far, and says so.
+TEST(PbdrrRegistration, MaxSecondsStopsWithTheBestPoseSoFar)
+{
+  const auto                     volume = MakePhantom();
+  const std::array<double, 6>    truth{ { 3.0, -2.0, 1.5, 2.0, -1.5, 2.5 } };
+  const std::vector<pbdrr::XRay> xrays{ RenderXRay(volume, LateralLocalizer(), truth) };
+  pbdrr::RegistrationSettings    settings;
+  settings.Exact = true;
+  settings.MaxSeconds = 1e-3;
+  const auto result = pbdrr::RegisterToXRays(volume, xrays, settings);
+  EXPECT_TRUE(result.StoppedByTime);
+  for (const double component : result.Pose)
+  {
+    EXPECT_TRUE(std::isfinite(component));
+  }
+  EXPECT_EQ(result.FinalDRRs.size(), 1u);
+}
