@@ -40,7 +40,7 @@ for series in S2010 S3010; do
       extra=""
       [ "$method" = exact ] && extra="--exact siddon"
       result=$("$pbdrr" register "$data/$series" --xray "$data/S1000/I10" -o "$out/${series}_${method}_$k.png" \
-        --start $start --threads "$threads" -q $extra)
+        --start $start --threads "$threads" --metric "${METRIC:-gc}" -q $extra)
       pose=$(echo "$result" | sed -n 's/^pose: //p' | tr ' ' ',')
       similarity=$(echo "$result" | sed -n 's/^similarity: \([0-9.-]*\).*/\1/p')
       seconds=$(echo "$result" | sed -n 's/^time: \([0-9.]*\) s, \([0-9]*\) DRRs.*/\1/p')

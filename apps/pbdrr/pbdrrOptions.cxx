@@ -504,6 +504,7 @@ HelpText()
            R"(pbdrr - digitally reconstructed radiographs by unbiased Monte Carlo point sampling (PointBasedDRR)
 
 Usage: pbdrr INPUT -o OUTPUT [options]
+       pbdrr register CT --xray X -o OUT.png [options]   the CT's pose from X-rays (pbdrr register --help)
 
 INPUT   a DICOM series directory (the largest series, or --series UID), or a volume ITK reads
         (.mha, .nrrd, .nii, .nii.gz, ...). Voxels are HU unless --input-units mu.

@@ -176,6 +176,16 @@ ParseRegisterCommandLine(const std::vector<std::string> & arguments)
       }
       options.settings.Exact = true;
     }
+    else if (word == "--metric")
+    {
+      const std::string name = value(i, 1)[0];
+      const auto &      names = RegistrationMetricNames();
+      if (std::find(names.begin(), names.end(), name) == names.end())
+      {
+        throw UsageError("--metric expects ncc or gc, got '" + name + "'");
+      }
+      options.settings.Metric = name;
+    }
     else if (word == "--shrink")
     {
       options.settings.Shrink.clear();
@@ -266,12 +276,16 @@ CT      a DICOM series directory, an export root or a volume ITK reads (HU), as 
 
 The pose is the CT moved in the room, x -> R (x - c) + c + t (c: the centre of the CT's grid; R: rotations rx, ry, rz
 about z, then x, then y, as itk::Euler3DTransform); identity is where the scanner's frame of reference puts it.
-The similarity is the normalized cross-correlation (NCC) of DRR and X-ray over the field both cover (the pixels whose
+The similarity is the gradient correlation (GC: the NCC of the images' row and column differences) of DRR and
+X-ray, or their normalized cross-correlation (NCC), over the field both cover (the pixels whose
 rays cross the CT), mean over the X-rays: blind to the X-ray's gain, offset and units. Powell's method maximizes it on
 a multi-resolution schedule.
 
 Options:
   --start TX TY TZ RX RY RZ   the starting pose: mm and degrees (default 0 0 0 0 0 0)
+  --metric gc|ncc         gradient correlation (default: edges only, blind to a
+                          table or holder outside the CT's field, scatter, a heel effect) or normalized
+                          cross-correlation of the images
   --shrink F[,F...]       the schedule: detector binning per level (default 4,2)
   --samples N             points per DRR, kept and re-projected at every pose (default 4M)
   --exact siddon          the exact Siddon projector instead of points (no noise, slower per DRR)
@@ -283,7 +297,7 @@ Options:
 
 Prints:
   pose: tx ty tz rx ry rz      (mm, degrees)
-  similarity: NCC              (at full resolution; and the start's)
+  similarity: S                (the metric at full resolution; and the start's on the first level)
 )";
 }
 
@@ -315,8 +329,8 @@ RunRegister(const RegisterOptions & options)
   const RegistrationResult result = RegisterToXRays(loaded.Image, xrays, options.settings);
   std::cout << std::fixed << std::setprecision(3) << "pose: " << result.Pose[0] << " " << result.Pose[1] << " "
             << result.Pose[2] << " " << result.Pose[3] << " " << result.Pose[4] << " " << result.Pose[5] << "\n"
-            << std::setprecision(4) << "similarity: " << result.Similarity << " (NCC; at the start "
-            << result.StartSimilarity << " on the first level)\n"
+            << std::setprecision(4) << "similarity: " << result.Similarity << " (" << options.settings.Metric
+            << "; at the start " << result.StartSimilarity << " on the first level)\n"
             << std::setprecision(2) << "time: " << result.Seconds << " s, " << result.Evaluations << " DRRs"
             << (result.StoppedByTime ? ", stopped at --max-seconds: the best pose so far" : "") << std::endl;
   for (size_t x = 0; x < xrays.size(); ++x)

@@ -179,6 +179,7 @@ public:
   };
 
   std::vector<Level>                    Levels;
+  bool                                  Gradient{ false }; // gradient correlation, else NCC
   const VolumeType *                    Volume{ nullptr };
   EulerType::Pointer                    Pose;
   std::chrono::steady_clock::time_point Deadline{ std::chrono::steady_clock::time_point::max() };
@@ -199,8 +200,10 @@ public:
     for (const Level & level : Levels)
     {
       const ProjectionType * drr = Render(level, Pose);
-      similarity += MaskedNormalizedCorrelation(
-        drr->GetBufferPointer(), level.XRay.data(), CoveredField(level.Geometry, Volume, Pose));
+      similarity += Similarity(drr->GetBufferPointer(),
+                               level.XRay.data(),
+                               CoveredField(level.Geometry, Volume, Pose),
+                               level.Geometry->GetDetectorSize()[0]);
     }
     const double value = 1.0 - similarity / static_cast<double>(Levels.size());
     if (value < BestValue)
@@ -209,6 +212,14 @@ public:
       BestParameters = parameters;
     }
     return value;
+  }
+
+  /** The metric of a DRR and an X-ray (columns wide) over the mask. */
+  double
+  Similarity(const float * drr, const float * xray, const std::vector<uint8_t> & mask, size_t columns) const
+  {
+    return Gradient ? MaskedGradientCorrelation(drr, xray, mask, columns)
+                    : MaskedNormalizedCorrelation(drr, xray, mask);
   }
 
   /** Renders level's view at the pose. */
@@ -302,6 +313,38 @@ MaskedNormalizedCorrelation(const float * a, const float * b, const std::vector<
   return aa > 0.0 && bb > 0.0 ? ab / std::sqrt(aa * bb) : 0.0;
 }
 
+double
+MaskedGradientCorrelation(const float * a, const float * b, const std::vector<uint8_t> & mask, size_t columns)
+{
+  const size_t rows = mask.size() / columns;
+  double       sum = 0.0;
+  for (const bool alongColumns : { true, false })
+  {
+    const size_t         step = alongColumns ? 1 : columns;
+    std::vector<float>   da(mask.size(), 0.0f), db(mask.size(), 0.0f);
+    std::vector<uint8_t> inside(mask.size(), 0);
+    for (size_t r = alongColumns ? 0 : 1; r + (alongColumns ? 0 : 1) < rows; ++r)
+    {
+      for (size_t c = alongColumns ? 1 : 0; c + (alongColumns ? 1 : 0) < columns; ++c)
+      {
+        const size_t p = r * columns + c;
+        inside[p] = mask[p - step] & mask[p + step];
+        da[p] = a[p + step] - a[p - step];
+        db[p] = b[p + step] - b[p - step];
+      }
+    }
+    sum += MaskedNormalizedCorrelation(da.data(), db.data(), inside);
+  }
+  return 0.5 * sum;
+}
+
+const std::vector<std::string> &
+RegistrationMetricNames()
+{
+  static const std::vector<std::string> names{ "ncc", "gc" };
+  return names;
+}
+
 XRay
 ReadXRay(const std::string & image, const std::string & geometryFile, const std::string & matrixFile)
 {
@@ -371,6 +414,11 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
   {
     throw std::runtime_error("registration needs at least one X-ray (--xray)");
   }
+  const auto & metrics = RegistrationMetricNames();
+  if (std::find(metrics.begin(), metrics.end(), settings.Metric) == metrics.end())
+  {
+    throw std::runtime_error("unknown registration metric '" + settings.Metric + "' (ncc or gc)");
+  }
   const auto begin = std::chrono::steady_clock::now();
   auto       pose = EulerType::New();
   pose->SetCenter(GeometryType::ComputeImageCenter(volume));
@@ -401,6 +449,7 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
   RegistrationResult result;
   const auto         levelCost = [&](unsigned shrink) {
     auto cost = SimilarityCost::New();
+    cost->Gradient = settings.Metric == "gc";
     cost->Volume = volume;
     cost->Pose = pose;
     if (settings.MaxSeconds > 0.0)
@@ -486,8 +535,10 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
               drr->GetBufferPointer() + drr->GetLargestPossibleRegion().GetNumberOfPixels(),
               kept->GetBufferPointer());
     result.Masks.push_back(CoveredField(level.Geometry, volume, pose));
-    similarity +=
-      MaskedNormalizedCorrelation(kept->GetBufferPointer(), xrays[x].Image->GetBufferPointer(), result.Masks.back());
+    similarity += levelCost(1)->Similarity(kept->GetBufferPointer(),
+                                           xrays[x].Image->GetBufferPointer(),
+                                           result.Masks.back(),
+                                           level.Geometry->GetDetectorSize()[0]);
     result.FinalDRRs.push_back(kept);
   }
   result.Similarity = similarity / static_cast<double>(xrays.size());

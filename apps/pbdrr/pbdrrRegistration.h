@@ -49,9 +49,9 @@ ReadXRay(const std::string & image, const std::string & geometryFile, const std:
  *
  * The pose is the CT moved in the room: x -> R (x - c) + c + t, c the centre of the CT's grid, R =
  * itk::Euler3DTransform's rotation of the angles (rx, ry, rz) (about z, then x, then y); identity is where the CT's own
- * frame of reference puts it. The similarity is the normalized cross-correlation (NCC) of DRR and X-ray over the pixels
- * whose rays cross the CT's grid (the field both cover), averaged over the X-rays: it ignores the X-ray's gain, offset
- * and units. Powell's method (itk::PowellOptimizer, derivative-free) maximizes it on each level of a multi-resolution
+ * frame of reference puts it. The similarity (Metric) is the gradient correlation (default) or the normalized
+ * cross-correlation (NCC) of DRR and X-ray over the pixels whose rays cross the CT's grid (the field both cover),
+ * averaged over the X-rays: both ignore the X-ray's gain, offset and units. Powell's method (itk::PowellOptimizer, derivative-free) maximizes it on each level of a multi-resolution
  * schedule (the detector binned shrink x shrink, the X-ray block-averaged alike). */
 struct RegistrationSettings
 {
@@ -61,11 +61,15 @@ struct RegistrationSettings
   /** The exact projector's rays per pixel side: a pixel's value is the average of k x k rays, as a detector pixel
    * integrates (one ray samples a point: on sharp edges its NCC optimum is off by tenths of a degree). */
   unsigned ExactRaysPerSide{ 2 };
-  uint64_t              Samples{ 4000000 };
-  uint64_t              Seed{ 0 };
-  double                MaxSeconds{ 0.0 }; // 0: no limit
-  unsigned              Threads{ 0 };
-  bool                  Verbose{ false };
+  /** The similarity: "ncc" (normalized cross-correlation of the images) or "gc" (gradient correlation: the mean of the
+   * NCCs of the two images' row and column differences, Penney et al. 1998: edges only, blind to the smooth content an
+   * X-ray has and a CT's DRR lacks, such as a table outside the CT's field, scatter or a heel effect). */
+  std::string Metric{ "gc" };
+  uint64_t    Samples{ 4000000 };
+  uint64_t    Seed{ 0 };
+  double      MaxSeconds{ 0.0 }; // 0: no limit
+  unsigned    Threads{ 0 };
+  bool        Verbose{ false };
 };
 
 /** The outcome of a registration. */
@@ -88,6 +92,15 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
 /** The normalized cross-correlation of a and b over the pixels where mask is 1 (0 if either is constant there). */
 double
 MaskedNormalizedCorrelation(const float * a, const float * b, const std::vector<uint8_t> & mask);
+
+/** The gradient correlation of a and b (columns wide): the mean of the NCCs of their differences along the columns and
+ * along the rows, over the pixels whose two neighbours (on that axis) are in the mask. */
+double
+MaskedGradientCorrelation(const float * a, const float * b, const std::vector<uint8_t> & mask, size_t columns);
+
+/** The names RegistrationSettings::Metric takes. */
+const std::vector<std::string> &
+RegistrationMetricNames();
 } // namespace pbdrr
 
 #endif
