@@ -17,7 +17,7 @@
  *=========================================================================*/
 // MakeTestVolumes DIR [J2K]: writes the tiny inputs of the pbdrr command-line tests into DIR (see
 // test/cli/CMakeLists.txt):
-//   phantom.mha (16 x 16 x 12 short HU), image2d.mha, image4d.mha, vector.mha (3 components), garbage.mha (text),
+//   phantom.mha (16 x 16 x 12 short HU), register_phantom.mha (asymmetric bone blocks), image2d.mha, image4d.mha, vector.mha (3 components), garbage.mha (text),
 //   truncated.mha (a header whose pixel data is cut short), isdir.mha/ (a directory), nan.mha and inf.mha (a
 //   non-finite voxel), empty.mha (no voxels), float_extremes.mha (HU from -1e30 to 1e6), geometry files good and bad,
 //   dicom_jpeg2000_truncated (a copy of the JPEG 2000 series J2K with one slice cut short, if J2K is given), and DICOM
@@ -569,6 +569,17 @@ main(int argc, char * argv[])
 
     // Volume files.
     WritePhantom(root / "phantom.mha");
+    // For pbdrr register: no symmetry, so that every pose parameter shows (three bone blocks in a soft-tissue box).
+    itk::WriteImage(MakeShortVolume({ { 24, 20, 16 } },
+                                    { { 2.0, 2.0, 2.0 } },
+                                    { { -23.0, -19.0, -15.0 } },
+                                    [](unsigned x, unsigned y, unsigned z) {
+                                      const bool a = x >= 3 && x < 9 && y >= 4 && y < 12 && z >= 5 && z < 13;
+                                      const bool b = x >= 13 && x < 20 && y >= 13 && y < 17 && z >= 2 && z < 7;
+                                      const bool c = x >= 16 && x < 21 && y >= 3 && y < 8 && z >= 10 && z < 14;
+                                      return static_cast<short>(a || b || c ? 1200 : 40);
+                                    }),
+                    (root / "register_phantom.mha").string());
     WriteConstant<itk::Image<short, 2>>(root / "image2d.mha", { { 16, 16 } }, 0);
     WriteConstant<itk::Image<short, 4>>(root / "image4d.mha", { { 4, 4, 4, 2 } }, 0);
     WriteConstant<itk::Image<itk::Vector<float, 3>, 3>>(
