@@ -286,7 +286,8 @@ Options:
   --metric gc|ncc         gradient correlation (default: edges only, blind to a
                           table or holder outside the CT's field, scatter, a heel effect) or normalized
                           cross-correlation of the images
-  --shrink F[,F...]       the schedule: detector binning per level (default 4,2)
+  --shrink F[,F...]       the schedule: detector binning per level (default 2,1: the last level at full resolution,
+                          where the gradients decide the rotations out of the view's plane)
   --samples N             points per DRR, kept and re-projected at every pose (default 4M)
   --exact siddon          the exact Siddon projector instead of points (no noise, slower per DRR)
   --seed S                the points' seed (default 0): the same seed, the same pose on any thread count

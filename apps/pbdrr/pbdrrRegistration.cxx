@@ -509,9 +509,9 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
     if (settings.Verbose)
     {
       const auto level = ToPose(parameters);
-      std::cerr << "pbdrr: register: level 1/" << shrink << ": NCC " << 1.0 - cost->BestValue << " after "
-                << cost->Evaluations << " DRRs, pose " << level[0] << " " << level[1] << " " << level[2] << " "
-                << level[3] << " " << level[4] << " " << level[5] << std::endl;
+      std::cerr << "pbdrr: register: level 1/" << shrink << ": " << settings.Metric << " " << 1.0 - cost->BestValue
+                << " after " << cost->Evaluations << " DRRs, pose " << level[0] << " " << level[1] << " " << level[2]
+                << " " << level[3] << " " << level[4] << " " << level[5] << std::endl;
     }
     if (result.StoppedByTime)
     {

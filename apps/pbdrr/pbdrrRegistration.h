@@ -51,12 +51,13 @@ ReadXRay(const std::string & image, const std::string & geometryFile, const std:
  * itk::Euler3DTransform's rotation of the angles (rx, ry, rz) (about z, then x, then y); identity is where the CT's own
  * frame of reference puts it. The similarity (Metric) is the gradient correlation (default) or the normalized
  * cross-correlation (NCC) of DRR and X-ray over the pixels whose rays cross the CT's grid (the field both cover),
- * averaged over the X-rays: both ignore the X-ray's gain, offset and units. Powell's method (itk::PowellOptimizer, derivative-free) maximizes it on each level of a multi-resolution
- * schedule (the detector binned shrink x shrink, the X-ray block-averaged alike). */
+ * averaged over the X-rays: both ignore the X-ray's gain, offset and units. Powell's method (itk::PowellOptimizer,
+ * derivative-free) maximizes it on each level of a multi-resolution schedule (the detector binned shrink x shrink, the
+ * X-ray block-averaged alike). */
 struct RegistrationSettings
 {
   std::array<double, 6> StartPose{}; // tx ty tz (mm) rx ry rz (degrees)
-  std::vector<unsigned> Shrink{ 4, 2 };
+  std::vector<unsigned> Shrink{ 2, 1 };
   bool                  Exact{ false }; // the exact Siddon projector instead of kept points
   /** The exact projector's rays per pixel side: a pixel's value is the average of k x k rays, as a detector pixel
    * integrates (one ray samples a point: on sharp edges its NCC optimum is off by tenths of a degree). */
