@@ -961,6 +961,28 @@ TEST(DRRProjectionGeometryImageCenter, HonoursIndexSpacingOriginAndDirection)
   EXPECT_THROW(geometry->SetIsocenterToImageCenter(nullptr), itk::ExceptionObject);
 }
 
+namespace
+{
+/** p = P [x; 1]: (column, row) and the third component. */
+double
+ApplyMatrix(const GeometryType::ProjectionMatrixType & matrix, const PointType & x, double & column, double & row)
+{
+  double p[3];
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    p[r] = matrix[r][3];
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      p[r] += matrix[r][a] * x[a];
+    }
+  }
+  column = p[0] / p[2];
+  row = p[1] / p[2];
+  return p[2];
+}
+
+} // namespace
+
 // The 3 x 4 projection matrix sends every point of the ray through a pixel centre to that pixel's (column, row), for
 // both beams, an oblique view, offsets and non-square pixels, and a point off the ray elsewhere.
 TEST(DRRProjectionGeometryMatrix, MapsEveryPointOfAPixelsRayToThatPixel)
@@ -994,18 +1016,7 @@ TEST(DRRProjectionGeometryMatrix, MapsEveryPointOfAPixelsRayToThatPixel)
     geometry->VerifyGeometry();
     const auto matrix = geometry->GetProjectionMatrix();
     const auto project = [&](const GeometryType::PointType & x, double & column, double & row) {
-      double p[3];
-      for (unsigned int r = 0; r < 3; ++r)
-      {
-        p[r] = matrix[r][3];
-        for (unsigned int a = 0; a < 3; ++a)
-        {
-          p[r] += matrix[r][a] * x[a];
-        }
-      }
-      column = p[0] / p[2];
-      row = p[1] / p[2];
-      return p[2];
+      return ApplyMatrix(matrix, x, column, row);
     };
     const bool perspective = projection == itk::PointBasedDRREnums::Projection::Perspective;
     for (const double column : { 0.0, 7.25, 30.0 })
@@ -1038,24 +1049,6 @@ TEST(DRRProjectionGeometryMatrix, MapsEveryPointOfAPixelsRayToThatPixel)
 
 namespace
 {
-/** p = P [x; 1]: (column, row) and the third component. */
-double
-ApplyMatrix(const GeometryType::ProjectionMatrixType & matrix, const PointType & x, double & column, double & row)
-{
-  double p[3];
-  for (unsigned int r = 0; r < 3; ++r)
-  {
-    p[r] = matrix[r][3];
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      p[r] += matrix[r][a] * x[a];
-    }
-  }
-  column = p[0] / p[2];
-  row = p[1] / p[2];
-  return p[2];
-}
-
 GeometryType::Pointer
 ObliqueView(ProjectionEnum projection, bool mirrored)
 {
