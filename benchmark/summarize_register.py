@@ -10,7 +10,7 @@ rows = defaultdict(list)
 with open(sys.argv[1]) as f:
     for r in csv.DictReader(f):
         rows[(r["series"], r["method"])].append(r)
-print("| series | method | converged (1 mm, 0.5 deg) | median pose tx ty tz (mm) rx ry rz (deg) | spread of the converged (mm, deg) | NCC median | s per registration (median) | DRRs |")
+print("| series | method | converged (1 mm, 0.5 deg) | median pose tx ty tz (mm) rx ry rz (deg) | spread of the converged (mm, deg) | similarity median (GC, full resolution) | s per registration (median) | DRRs |")
 print("|---|---|---|---|---|---|---|---|")
 for (series, method), rs in sorted(rows.items()):
     pose = np.array([[float(r[k]) for k in ("tx", "ty", "tz", "rx", "ry", "rz")] for r in rs])
