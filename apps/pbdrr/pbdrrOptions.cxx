@@ -513,7 +513,7 @@ OUTPUT  the extension decides: .mha .nrrd .nii .nii.gz .tif hold float values (l
 
 Geometry (plastimatch drr convention; lengths in mm, angles in DEGREES; world = the CT's LPS frame):
   --geometry FILE        key value lines: projection, sad, sid, gantry, nrm, vup, isocenter, cols, rows,
-                         spacing, offset (flags below override the file)
+                         spacing, offset, mirror (flags below override the file)
   --sad MM               source to isocenter distance (default 1000)
   --sid MM               source to detector distance (default 1500)
   --gantry DEG           gantry angle: 0 puts the source on +x (left), 90 on -y (anterior: an AP view)

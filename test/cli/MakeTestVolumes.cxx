@@ -17,16 +17,16 @@
  *=========================================================================*/
 // MakeTestVolumes DIR [J2K]: writes the tiny inputs of the pbdrr command-line tests into DIR (see
 // test/cli/CMakeLists.txt):
-//   phantom.mha (16 x 16 x 12 short HU), register_phantom.mha (asymmetric bone blocks), image2d.mha, image4d.mha, vector.mha (3 components), garbage.mha (text),
-//   truncated.mha (a header whose pixel data is cut short), isdir.mha/ (a directory), nan.mha and inf.mha (a
-//   non-finite voxel), empty.mha (no voxels), float_extremes.mha (HU from -1e30 to 1e6), geometry files good and bad,
-//   dicom_jpeg2000_truncated (a copy of the JPEG 2000 series J2K with one slice cut short, if J2K is given), and DICOM
-//   series directories: dicom_good, dicom_missing, dicom_uneven, dicom_tilt (a gantry tilt: positions drift 0.5 mm
-//   in y per slice), dicom_tilt_uneven (the drift changes), dicom_duplicate, dicom_orientation,
-//   dicom_single, dicom_two_series, dicom_empty, dicom_text_only, dicom_truncated (a slice cut short),
-//   dicom_with_report (non-image objects beside the slices), dicom_with_dirfile (a DICOMDIR named DIRFILE beside the
-//   slices, as a Philips export has it), dicom_export (an export tree: DIRFILE, a localizer series, a volume and a
-//   smaller series in folders), CT localizers (localizer_lateral.dcm, and _table_along_columns, _no_distances,
+//   phantom.mha (16 x 16 x 12 short HU), register_phantom.mha (asymmetric bone blocks), image2d.mha, image4d.mha,
+//   vector.mha (3 components), garbage.mha (text), truncated.mha (a header whose pixel data is cut short), isdir.mha/
+//   (a directory), nan.mha and inf.mha (a non-finite voxel), empty.mha (no voxels), float_extremes.mha (HU from -1e30
+//   to 1e6), geometry files good and bad, dicom_jpeg2000_truncated (a copy of the JPEG 2000 series J2K with one slice
+//   cut short, if J2K is given), and DICOM series directories: dicom_good, dicom_missing, dicom_uneven, dicom_tilt (a
+//   gantry tilt: positions drift 0.5 mm in y per slice), dicom_tilt_uneven (the drift changes), dicom_duplicate,
+//   dicom_orientation, dicom_single, dicom_two_series, dicom_empty, dicom_text_only, dicom_truncated (a slice cut
+//   short), dicom_with_report (non-image objects beside the slices), dicom_with_dirfile (a DICOMDIR named DIRFILE
+//   beside the slices, as a Philips export has it), dicom_export (an export tree: DIRFILE, a localizer series, a volume
+//   and a smaller series in folders), CT localizers (localizer_lateral.dcm, and _table_along_columns, _no_distances,
 //   _detector_inside, _axial), projection matrices (matrix_view.P.txt, the view of matrix_view.txt; matrix_two_rows,
 //   _row_of_3, _nan, _singular, _skewed) and multi-frame files: dicom_multiframe (and _descending,
 //   _uneven, _shuffled, _legacy, _nogroups, _nowhere).

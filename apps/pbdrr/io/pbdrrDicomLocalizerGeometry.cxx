@@ -112,8 +112,8 @@ ReadLocalizerView(const std::string & path)
   columnsAttribute.SetFromDataSet(dataSet);
   const std::vector<double> rows{ static_cast<double>(rowsAttribute.GetValue()) };
   const std::vector<double> columns{ static_cast<double>(columnsAttribute.GetValue()) };
-  const auto   spacing = RequiredNumbers(dataSet, 0x0028, 0x0030, 2, "Pixel Spacing", path);
-  const auto   position = RequiredNumbers(dataSet, 0x0020, 0x0032, 3, "Image Position (Patient)", path);
+  const auto                spacing = RequiredNumbers(dataSet, 0x0028, 0x0030, 2, "Pixel Spacing", path);
+  const auto                position = RequiredNumbers(dataSet, 0x0020, 0x0032, 3, "Image Position (Patient)", path);
   const auto   orientation = RequiredNumbers(dataSet, 0x0020, 0x0037, 6, "Image Orientation (Patient)", path);
   const double sid = RequiredNumbers(dataSet, 0x0018, 0x1110, 1, "Distance Source to Detector", path)[0];
   const double sad = RequiredNumbers(dataSet, 0x0018, 0x1111, 1, "Distance Source to Patient", path)[0];
