@@ -18,6 +18,7 @@
 #include "pbdrrApplication.h"
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
+#include "pbdrrRegistration.h"
 #include "pbdrrVolumeLoader.h"
 
 #include "itkCommand.h"
@@ -657,6 +658,10 @@ Run(const Options & options)
     }
   }
   const auto geometry = MakeGeometry(options, loaded.Image);
+  if (!options.projectionMatrixFile.empty())
+  {
+    CheckDetectorBeyondVolume(geometry, loaded.Image, 0.0, "--projection-matrix (--spacing DU)");
+  }
   if (options.verbose)
   {
     std::cerr << "pbdrr: input: " << loaded.Description << "\npbdrr: volume: " << Describe(loaded.Image)

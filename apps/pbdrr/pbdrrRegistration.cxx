@@ -366,6 +366,11 @@ ReadXRay(const std::string & image, const std::string & geometryFile, const std:
     auto reader = itk::DRRProjectionMatrixFileIO::New();
     reader->SetFileName(matrixFile);
     xray.Geometry = GeometryType::New();
+    // The image's pixel spacing is the detector's pitch: it places the detector SID = fx du from the source.
+    GeometryType::DetectorVectorType pitch;
+    pitch[0] = xray.Image->GetSpacing()[0];
+    pitch[1] = xray.Image->GetSpacing()[1];
+    xray.Geometry->SetDetectorSpacing(pitch);
     xray.Geometry->SetProjectionMatrix(reader->Read(), { { size[0], size[1] } });
     xray.Description = image + " in the view of the projection matrix " + matrixFile;
   }
@@ -407,6 +412,45 @@ ReadXRay(const std::string & image, const std::string & geometryFile, const std:
   return xray;
 }
 
+void
+CheckDetectorBeyondVolume(const GeometryType *      geometry,
+                          const itk::ImageBase<3> * volume,
+                          double                    marginInMillimeters,
+                          const std::string &       flag)
+{
+  if (geometry->GetProjection() != itk::PointBasedDRREnums::Projection::Perspective)
+  {
+    return;
+  }
+  const auto size = volume->GetLargestPossibleRegion().GetSize();
+  const auto source = geometry->GetSourcePosition();
+  const auto n = geometry->GetNormal();
+  double     farthest = -std::numeric_limits<double>::infinity();
+  for (unsigned corner = 0; corner < 8; ++corner)
+  {
+    itk::ContinuousIndex<double, 3> index;
+    for (unsigned a = 0; a < 3; ++a)
+    {
+      index[a] = (corner >> a) & 1u ? static_cast<double>(size[a]) - 0.5 : -0.5;
+    }
+    itk::Point<double, 3> point;
+    volume->TransformContinuousIndexToPhysicalPoint(index, point);
+    farthest = std::max(farthest, (source - point) * n);
+  }
+  farthest += marginInMillimeters;
+  const double sid = geometry->GetSourceToDetectorDistance();
+  if (farthest > sid)
+  {
+    const double       focal = sid / geometry->GetDetectorSpacing()[0];
+    std::ostringstream message;
+    message << "the detector of " << flag << " lies " << sid << " mm from the source (focal length " << focal
+            << " pixels x column pitch " << geometry->GetDetectorSpacing()[0] << " mm), inside the CT, which reaches "
+            << farthest << " mm from it: the rays end at the detector. Give the detector's pixel pitch, at least "
+            << farthest / focal << " mm here";
+    throw std::runtime_error(message.str());
+  }
+}
+
 RegistrationResult
 RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, const RegistrationSettings & settings)
 {
@@ -418,6 +462,11 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
   if (std::find(metrics.begin(), metrics.end(), settings.Metric) == metrics.end())
   {
     throw std::runtime_error("unknown registration metric '" + settings.Metric + "' (ncc or gc)");
+  }
+  for (const XRay & xray : xrays)
+  {
+    // The CT may move by the start pose and the search's reach (a few cm) towards the detector.
+    CheckDetectorBeyondVolume(xray.Geometry, volume, 50.0, "the X-ray " + xray.Description);
   }
   const auto begin = std::chrono::steady_clock::now();
   auto       pose = EulerType::New();

@@ -86,6 +86,16 @@ struct RegistrationResult
   std::vector<std::vector<uint8_t>>          Masks;     // the field both cover, per X-ray (1: counted)
 };
 
+/** For a view set from a projection matrix: throws std::runtime_error if the volume, moved by up to
+ * marginInMillimeters, reaches beyond the detector plane, where the rays end (SID = fx du: a pixel pitch du too small
+ * for the matrix's focal length fx puts the detector inside the volume, and the DRR would be cut or empty). Names the
+ * pitch that is needed. */
+void
+CheckDetectorBeyondVolume(const itk::DRRProjectionGeometry * geometry,
+                          const itk::ImageBase<3> *          volume,
+                          double                             marginInMillimeters,
+                          const std::string &                flag);
+
 /** Registers the CT volume (HU) to the X-rays. */
 RegistrationResult
 RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, const RegistrationSettings & settings);

@@ -412,7 +412,7 @@ WriteLocalizer(const fs::path & file, const std::function<void(gdcm::DataSet &)>
   }
 }
 
-/** Projection matrix files: the view of geometry_32.txt's kind (gantry 30, 16 x 16 at 1.2 mm) as a matrix, and
+/** Projection matrix files: a view (gantry 30, 16 x 16 at 4 mm, mirrored) as a geometry file and as a matrix, and
  * matrices that are not one: two rows, a row of 3, a NaN, singular, skewed. */
 void
 WriteProjectionMatrices(const fs::path & root)
@@ -420,7 +420,7 @@ WriteProjectionMatrices(const fs::path & root)
   auto geometry = itk::DRRProjectionGeometry::New();
   geometry->SetGantryAngleInDegrees(30.0);
   geometry->SetDetectorSize({ { 16, 16 } });
-  geometry->SetDetectorSpacing(itk::Vector<double, 2>(1.2));
+  geometry->SetDetectorSpacing(itk::Vector<double, 2>(4.0));
   geometry->SetColumnsMirrored(true);
   geometry->VerifyGeometry();
   itk::DRRProjectionGeometryFileIO::Pointer geometryWriter = itk::DRRProjectionGeometryFileIO::New();
