@@ -261,11 +261,13 @@ public:
    *
    * A pinhole P (its left 3 x 3 block M invertible) is K [R | t] with K = [fx s cx; 0 fy cy; 0 0 1]: the source is P's
    * null vector -M^-1 p4, the normal -r3, the principal point (cx, cy) the foot of the normal, and the focal lengths
-   * fx, fy (pixels) give SID = fx du and dv = SID / fy, du being the column spacing in force (default 1 mm; the rays,
-   * and so the line integrals, do not depend on it). P's sign must make p2 positive in front of the source (as
-   * GetProjectionMatrix() writes it, and as K [R | t] with positive focal lengths does); R of determinant -1
-   * (left-handed pixel axes) sets ColumnsMirrored. The rest is the explicit form's: SAD = SID, the isocenter at the
-   * foot of the normal. An affine P (third row 0 0 0 p23) is a parallel beam: its first two rows are u / du and v / dv.
+   * fx, fy (pixels) give SID = fx du and dv = SID / fy, du being the column spacing in force (default 1 mm). The rays'
+   * directions do not depend on du, but they end at the detector plane: give the detector's real pitch, or one that
+   * puts the plane beyond the volume (pbdrr refuses a pitch that does not). P's sign must make p2 positive in front of
+   * the source (as GetProjectionMatrix() writes it, and as K [R | t] with positive focal lengths does); R of
+   * determinant -1 (left-handed pixel axes) sets ColumnsMirrored. The rest is the explicit form's: SAD = SID, the
+   * isocenter at the foot of the normal. An affine P (third row 0 0 0 p23) is a parallel beam: its first two rows are u
+   * / du and v / dv.
    *
    * Throws an ExceptionObject, changing nothing, for a non-finite or singular P, a skewed pixel grid (|s| > 1e-6 fx;
    * affine: u, v not orthogonal), or a zero detector size. */
