@@ -82,6 +82,24 @@ ParseCount(const std::string & token, const std::string & key, const std::string
   return static_cast<SizeValueType>(value);
 }
 
+/** Sets value through set, bit for bit: ITK's set macros skip a value equal to the one held, and -0 == 0, so a -0
+ * read over a 0 would be lost (the geometry fuzzer's finding: `offset 0 -0` read back as 0 0). A different value
+ * first makes the second set take. */
+template <typename TValue, typename TSet, typename TGet>
+void
+SetBitExact(const TValue & value, TSet set, TGet get)
+{
+  set(value);
+  const auto & held = get();
+  if (std::memcmp(&held, &value, sizeof(TValue)) != 0)
+  {
+    TValue other = value;
+    reinterpret_cast<double *>(&other)[0] += 1.0;
+    set(other);
+    set(value);
+  }
+}
+
 void
 ApplyKey(GeometryType *                   geometry,
          const std::string &              key,
@@ -134,12 +152,18 @@ ApplyKey(GeometryType *                   geometry,
   else if (key == "sad")
   {
     expect(1);
-    geometry->SetSourceToIsocenterDistance(ParseNumber(values[0], key, where));
+    SetBitExact(
+      ParseNumber(values[0], key, where),
+      [&](double v) { geometry->SetSourceToIsocenterDistance(v); },
+      [&]() { return geometry->GetSourceToIsocenterDistance(); });
   }
   else if (key == "sid")
   {
     expect(1);
-    geometry->SetSourceToDetectorDistance(ParseNumber(values[0], key, where));
+    SetBitExact(
+      ParseNumber(values[0], key, where),
+      [&](double v) { geometry->SetSourceToDetectorDistance(v); },
+      [&]() { return geometry->GetSourceToDetectorDistance(); });
   }
   else if (key == "gantry")
   {
@@ -152,7 +176,10 @@ ApplyKey(GeometryType *                   geometry,
   }
   else if (key == "vup")
   {
-    geometry->SetViewUp(vector3());
+    SetBitExact(
+      vector3(),
+      [&](const GeometryType::VectorType & v) { geometry->SetViewUp(v); },
+      [&]() { return geometry->GetViewUp(); });
   }
   else if (key == "isocenter")
   {
@@ -161,7 +188,10 @@ ApplyKey(GeometryType *                   geometry,
     p[0] = v[0];
     p[1] = v[1];
     p[2] = v[2];
-    geometry->SetIsocenter(p);
+    SetBitExact(
+      p,
+      [&](const GeometryType::PointType & v) { geometry->SetIsocenter(v); },
+      [&]() { return geometry->GetIsocenter(); });
   }
   else if (key == "cols" || key == "rows")
   {
@@ -172,11 +202,17 @@ ApplyKey(GeometryType *                   geometry,
   }
   else if (key == "spacing")
   {
-    geometry->SetDetectorSpacing(vector2());
+    SetBitExact(
+      vector2(),
+      [&](const GeometryType::DetectorVectorType & v) { geometry->SetDetectorSpacing(v); },
+      [&]() { return geometry->GetDetectorSpacing(); });
   }
   else if (key == "offset")
   {
-    geometry->SetDetectorOffset(vector2());
+    SetBitExact(
+      vector2(),
+      [&](const GeometryType::DetectorVectorType & v) { geometry->SetDetectorOffset(v); },
+      [&]() { return geometry->GetDetectorOffset(); });
   }
   else if (key == "mirror")
   {

@@ -469,3 +469,18 @@ TEST(DRRNumberParser, WholeNumbersInRange)
   EXPECT_FALSE(itk::DRRNumberParser::IsWholeNumberInRange(2.5, 1.0, 1e6));
   EXPECT_FALSE(itk::DRRNumberParser::IsWholeNumberInRange(std::nan(""), 1.0, 1e6));
 }
+
+// A -0 read over a geometry's +0 is kept (ITK's set macros skip a value equal to the one held, and -0 == 0): the
+// geometry fuzzer's finding `offset 0 -0`, which read back as 0 0.
+TEST(DRRProjectionGeometryFileIO, NegativeZeroOverZeroIsKept)
+{
+  auto               geometry = GeometryType::New();
+  std::istringstream text("offset 0 -0\nisocenter -0 0 -0\nvup -0 -0 1\n");
+  IOType::ReadFromStream(text, geometry);
+  EXPECT_TRUE(std::signbit(geometry->GetDetectorOffset()[1]));
+  EXPECT_FALSE(std::signbit(geometry->GetDetectorOffset()[0]));
+  EXPECT_TRUE(std::signbit(geometry->GetIsocenter()[0]));
+  EXPECT_TRUE(std::signbit(geometry->GetIsocenter()[2]));
+  EXPECT_TRUE(std::signbit(geometry->GetViewUp()[0]));
+  EXPECT_EQ(geometry->GetViewUp()[2], 1.0);
+}

@@ -306,7 +306,20 @@ DecodeVolume(Reader & reader, bool floatVoxels)
       buffer[i] = (x + y + z) % 2 ? odd : even;
     }
   }
-  // ITK refuses some of these itself (a singular direction or spacing): an itk::ExceptionObject, a valid outcome.
+  // ITK refuses some of these itself (a singular direction or spacing): an itk::ExceptionObject, a valid outcome. It
+  // inverts direction x spacing by netlib's SVD, which spins for minutes on entries whose squares overflow or
+  // underflow (a fuzz input timed out inside ITK's SetDirection): such a grid is refused here, as ITK would have to.
+  for (unsigned r = 0; r < 3; ++r)
+  {
+    for (unsigned c = 0; c < 3; ++c)
+    {
+      const double entry = std::abs(direction[r][c] * spacing[c]);
+      if (!(entry <= 1e150) || (entry > 0.0 && entry < 1e-150))
+      {
+        itkGenericExceptionMacro("a direction x spacing entry of " << entry << " is beyond what ITK's SVD inverts");
+      }
+    }
+  }
   volume->SetSpacing(spacing);
   volume->SetOrigin(origin);
   volume->SetDirection(direction);
