@@ -155,6 +155,13 @@ CoveredField(const GeometryType * geometry, const VolumeType * volume, const Eul
   return mask;
 }
 
+/** The metric of a DRR and an X-ray (columns wide) over the mask: gradient correlation, or else NCC. */
+double
+Similarity(bool gradient, const float * drr, const float * xray, const std::vector<uint8_t> & mask, size_t columns)
+{
+  return gradient ? MaskedGradientCorrelation(drr, xray, mask, columns) : MaskedNormalizedCorrelation(drr, xray, mask);
+}
+
 /** Thrown by the cost when --max-seconds has passed: the best pose so far is the answer. */
 struct TimeIsUp
 {};
@@ -200,7 +207,8 @@ public:
     for (const Level & level : Levels)
     {
       const ProjectionType * drr = Render(level, Pose);
-      similarity += Similarity(drr->GetBufferPointer(),
+      similarity += Similarity(Gradient,
+                               drr->GetBufferPointer(),
                                level.XRay.data(),
                                CoveredField(level.Geometry, Volume, Pose),
                                level.Geometry->GetDetectorSize()[0]);
@@ -212,14 +220,6 @@ public:
       BestParameters = parameters;
     }
     return value;
-  }
-
-  /** The metric of a DRR and an X-ray (columns wide) over the mask. */
-  double
-  Similarity(const float * drr, const float * xray, const std::vector<uint8_t> & mask, size_t columns) const
-  {
-    return Gradient ? MaskedGradientCorrelation(drr, xray, mask, columns)
-                    : MaskedNormalizedCorrelation(drr, xray, mask);
   }
 
   /** Renders level's view at the pose. */
@@ -584,10 +584,11 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
               drr->GetBufferPointer() + drr->GetLargestPossibleRegion().GetNumberOfPixels(),
               kept->GetBufferPointer());
     result.Masks.push_back(CoveredField(level.Geometry, volume, pose));
-    similarity += levelCost(1)->Similarity(kept->GetBufferPointer(),
-                                           xrays[x].Image->GetBufferPointer(),
-                                           result.Masks.back(),
-                                           level.Geometry->GetDetectorSize()[0]);
+    similarity += Similarity(settings.Metric == "gc",
+                             kept->GetBufferPointer(),
+                             xrays[x].Image->GetBufferPointer(),
+                             result.Masks.back(),
+                             level.Geometry->GetDetectorSize()[0]);
     result.FinalDRRs.push_back(kept);
   }
   result.Similarity = similarity / static_cast<double>(xrays.size());

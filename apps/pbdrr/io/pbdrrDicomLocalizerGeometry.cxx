@@ -70,16 +70,6 @@ UnitVector(const std::vector<double> & numbers, size_t first, const std::string 
   }
   return v / norm;
 }
-
-VectorType
-Cross(const VectorType & a, const VectorType & b)
-{
-  VectorType c;
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-  return c;
-}
 } // namespace
 
 LocalizerView
@@ -157,7 +147,7 @@ ReadLocalizerView(const std::string & path)
   geometry->SetProjection(itk::DRRLocalizerBeam::Id);
   geometry->SetSourceToIsocenterDistance(sad);
   geometry->SetSourceToDetectorDistance(sid);
-  geometry->SetNormal(Cross(alongRows, alongColumns));
+  geometry->SetNormal(itk::CrossProduct(alongRows, alongColumns));
   geometry->SetViewUp(-alongRows);
   geometry->SetIsocenter(isocenter);
   geometry->SetDetectorSize(size);
