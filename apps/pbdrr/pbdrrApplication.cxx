@@ -16,8 +16,10 @@
  *
  *=========================================================================*/
 #include "pbdrrApplication.h"
+#include "pbdrrBatch.h"
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
+#include "pbdrrOutputFiles.h"
 #include "pbdrrRegistration.h"
 #include "pbdrrVolumeLoader.h"
 
@@ -49,10 +51,8 @@ namespace pbdrr
 {
 namespace
 {
-using ProjectionType = itk::Image<float, 2>;
 using GrayType = itk::Image<unsigned char, 2>;
 using Gray16Type = itk::Image<unsigned short, 2>;
-using BaseFilterType = itk::DRRImageFilterBase<VolumeType, ProjectionType>;
 using OutputModeEnum = itk::PointBasedDRREnums::OutputMode;
 using Clock = std::chrono::steady_clock;
 
@@ -61,6 +61,8 @@ SecondsSince(Clock::time_point start)
 {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
+
+} // namespace
 
 /** The output kind an extension stands for: "png" (gray levels) or "float". Throws for unknown extensions. */
 std::string
@@ -110,6 +112,9 @@ CheckWritable(const std::string & path)
     throw std::runtime_error("cannot write output " + path + ": " + std::strerror(errno));
   }
 }
+
+namespace
+{
 
 /** The flags that set a view by parts, which a whole view (--projection-matrix, --geometry-from) replaces. */
 std::vector<std::string>
@@ -163,6 +168,8 @@ MakeGeometryFromMatrix(const Options & options)
   return geometry;
 }
 
+} // namespace
+
 itk::DRRProjectionGeometry::Pointer
 MakeGeometry(const Options & options, const VolumeType * volume)
 {
@@ -182,12 +189,7 @@ MakeGeometry(const Options & options, const VolumeType * volume)
     }
     if (!conflicting.empty())
     {
-      std::string list;
-      for (const auto & flag : conflicting)
-      {
-        list += (list.empty() ? "" : ", ") + flag;
-      }
-      throw UsageError(whole + " gives the whole view: it cannot be combined with " + list);
+      throw UsageError(whole + " gives the whole view: it cannot be combined with " + JoinWords(conflicting, ", "));
     }
     return matrix ? MakeGeometryFromMatrix(options) : ReadLocalizerView(options.geometryFrom).Geometry;
   }
@@ -297,6 +299,8 @@ MakeTransferFunction(const Options & options)
   return transfer;
 }
 
+namespace
+{
 /** Progress on a terminal only (never into a file or a pipe), shown once the work has run for half a second: a bar
  * with the time left for a render, a count of files for a load. */
 class ProgressBar
@@ -433,6 +437,19 @@ DescribeGeometry(const itk::DRRProjectionGeometry * g)
   return s.str();
 }
 
+/** Writes an image at path through a temporary name (WriteAtomically), or directly for a format of two files. */
+template <typename TImage>
+void
+WriteImageAtomically(const TImage * image, const std::string & path)
+{
+  if (HasDetachedHeader(path))
+  {
+    itk::WriteImage(image, path);
+    return;
+  }
+  WriteAtomically(path, [image](const std::string & temporary) { itk::WriteImage(image, temporary); });
+}
+
 /** Gray-level window: the user's, or the 0.5 and 99.5 percentiles of the line integrals. */
 void
 ChooseWindow(const Options & options, const ProjectionType * image, double & level, double & width)
@@ -470,14 +487,13 @@ WriteGray(const ProjectionType * lineIntegral, const itk::DRROutputConversion & 
   {
     out[p] = static_cast<typename TGray::PixelType>(conversion.Value(in[p]));
   }
-  itk::WriteImage(gray, path);
+  WriteImageAtomically(gray.GetPointer(), path);
 }
 
-/** Writes the view beside the image, OUTPUT without its extension + ".geometry.txt": the geometry file `--geometry`
- * reads (every key, bit for bit) and, as comments, the 3 x 4 projection matrix, so that another tool can reproduce the
- * view. Returns its path. */
+} // namespace
+
 std::string
-WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry * geometry)
+GeometryPathBeside(const std::string & output)
 {
   std::string  stem = output;
   const size_t slash = stem.find_last_of('/');
@@ -490,7 +506,15 @@ WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry
   {
     stem.resize(dot);
   }
-  const std::string  path = stem + ".geometry.txt";
+  return stem + ".geometry.txt";
+}
+
+/** The geometry file `--geometry` reads (every key, bit for bit) and, as comments, the 3 x 4 projection matrix, so that
+ * another tool can reproduce the view. */
+std::string
+WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry * geometry)
+{
+  const std::string  path = GeometryPathBeside(output);
   std::ostringstream text;
   text << "# the view of " << output << " (pbdrr --geometry reads it)\n";
   if (geometry->HasProjectionMatrix())
@@ -510,12 +534,14 @@ WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry
          << " beam has no 3 x 4 projection matrix: the view is the keys below\n";
   }
   itk::DRRProjectionGeometryFileIO::WriteToStream(text, geometry);
-  std::ofstream file(path);
-  file << text.str();
-  if (!file.flush())
-  {
-    throw std::runtime_error("cannot write the view beside the image: " + path);
-  }
+  WriteAtomically(path, [&](const std::string & temporary) {
+    std::ofstream file(temporary);
+    file << text.str();
+    if (!file.flush())
+    {
+      throw std::runtime_error("cannot write the view beside the image: " + path);
+    }
+  });
   return path;
 }
 
@@ -556,7 +582,7 @@ WriteOutputs(const Options &            options,
   auto                           write = [&](const ProjectionType * image, const std::string & path, bool isError) {
     if (outputMode == OutputModeEnum::LineIntegral)
     {
-      itk::WriteImage(image, path);
+      WriteImageAtomically(image, path);
       return;
     }
     auto converted = ProjectionType::New();
@@ -571,7 +597,7 @@ WriteOutputs(const Options &            options,
       // A standard error goes through the mode by the delta method: times d(value) / dL at the pixel's L.
       out[p] = static_cast<float>(isError ? conversion.Slope(l[p]) * in[p] : conversion.Value(in[p]));
     }
-    itk::WriteImage(converted, path);
+    WriteImageAtomically(converted.GetPointer(), path);
   };
   if (kind == "png")
   {
@@ -593,7 +619,41 @@ WriteOutputs(const Options &            options,
     write(standardError, options.standardErrorOutput, true);
   }
 }
-} // namespace
+Renderer
+MakeRenderer(const Options & options, const VolumeType * volume)
+{
+  Renderer renderer;
+  if (!options.exact)
+  {
+    auto pointBased = PointFilterType::New();
+    pointBased->SetNumberOfSamples(options.samples);
+    pointBased->SetSeed(options.seed);
+    pointBased->SetNumberOfStrata(options.strata);
+    pointBased->SetReconstructionKernel(options.kernel);
+    pointBased->SetSplat(options.splat);
+    pointBased->SetPointWeighting(options.paperCount ? itk::PointBasedDRREnums::PointWeighting::PaperCount
+                                                     : itk::PointBasedDRREnums::PointWeighting::Unbiased);
+    pointBased->SetSampler(itk::DRRSamplerFactory::Create(options.sampler, options.paperCount));
+    pointBased->SetControlVariateFactor(options.controlVariate);
+    pointBased->SetControlVariateRaysPerSide(options.raysPerSide);
+    renderer.Points = pointBased;
+    renderer.Filter = pointBased.GetPointer();
+  }
+  else
+  {
+    auto exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
+    exact->SetReconstructionKernel(*options.exact);
+    exact->SetRaysPerPixelSide(options.raysPerSide);
+    renderer.Filter = exact.GetPointer();
+  }
+  renderer.Filter->SetInput(volume);
+  renderer.Filter->SetTransferFunction(MakeTransferFunction(options));
+  if (options.threads > 0)
+  {
+    renderer.Filter->SetNumberOfWorkUnits(options.threads);
+  }
+  return renderer;
+}
 
 std::string
 VersionText()
@@ -601,9 +661,43 @@ VersionText()
   return "pbdrr (PointBasedDRR) 0.1.0, ITK " + std::string(itk::Version::GetITKVersion());
 }
 
+namespace
+{
+/** Refuses the options of a batch (--shard, --stack, ...) in a run of one view. */
+void
+CheckSingleViewOptions(const Options & options)
+{
+  std::vector<std::string> flags;
+  for (const auto & flag : { std::make_pair(options.angleStepDegrees.has_value(), "--angle-step"),
+                             std::make_pair(options.shard.has_value(), "--shard"),
+                             std::make_pair(options.resume, "--resume"),
+                             std::make_pair(options.viewIndex.has_value(), "--view-index"),
+                             std::make_pair(options.stack, "--stack"),
+                             std::make_pair(options.independentViews, "--independent-views"),
+                             std::make_pair(!options.writeRtkGeometry.empty(), "--write-rtk-geometry") })
+  {
+    if (flag.first)
+    {
+      flags.push_back(flag.second);
+    }
+  }
+  if (!flags.empty())
+  {
+    throw UsageError(JoinWords(flags, ", ") +
+                     ": for a batch of views (--angles, --views, --rtk-geometry or --manifest)");
+  }
+}
+} // namespace
+
 void
 Run(const Options & options)
 {
+  if (IsBatch(options))
+  {
+    RunBatch(options);
+    return;
+  }
+  CheckSingleViewOptions(options);
   const bool                                  chatty = !options.quiet;
   std::vector<std::string>                    notes;
   std::vector<std::pair<std::string, double>> stages;
@@ -668,37 +762,10 @@ Run(const Options & options)
               << "\npbdrr: geometry: " << DescribeGeometry(geometry) << std::endl;
   }
 
-  BaseFilterType::Pointer                                            filter;
-  itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::Pointer pointBased;
-  if (!options.exact)
-  {
-    pointBased = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::New();
-    pointBased->SetNumberOfSamples(options.samples);
-    pointBased->SetSeed(options.seed);
-    pointBased->SetNumberOfStrata(options.strata);
-    pointBased->SetReconstructionKernel(options.kernel);
-    pointBased->SetSplat(options.splat);
-    pointBased->SetPointWeighting(options.paperCount ? itk::PointBasedDRREnums::PointWeighting::PaperCount
-                                                     : itk::PointBasedDRREnums::PointWeighting::Unbiased);
-    pointBased->SetSampler(itk::DRRSamplerFactory::Create(options.sampler, options.paperCount));
-    pointBased->SetControlVariateFactor(options.controlVariate);
-    pointBased->SetControlVariateRaysPerSide(options.raysPerSide);
-    filter = pointBased.GetPointer();
-  }
-  else
-  {
-    auto exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
-    exact->SetReconstructionKernel(*options.exact);
-    exact->SetRaysPerPixelSide(options.raysPerSide);
-    filter = exact.GetPointer();
-  }
-  filter->SetInput(loaded.Image);
+  const Renderer    renderer = MakeRenderer(options, loaded.Image);
+  BaseFilterType *  filter = renderer.Filter;
+  PointFilterType * pointBased = renderer.Points;
   filter->SetGeometry(geometry);
-  filter->SetTransferFunction(MakeTransferFunction(options));
-  if (options.threads > 0)
-  {
-    filter->SetNumberOfWorkUnits(options.threads);
-  }
 
   start = Clock::now();
   if (pointBased)

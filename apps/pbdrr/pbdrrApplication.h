@@ -19,9 +19,72 @@
 #define pbdrrApplication_h
 
 #include "pbdrrOptions.h"
+#include "pbdrrVolumeLoader.h"
+
+#include "itkDRRImageFilterBase.h"
+#include "itkDRRProjectionGeometry.h"
+#include "itkDRRTransferFunction.h"
+#include "itkPointBasedDRRImageFilter.h"
 
 namespace pbdrr
 {
+/** A DRR: line integrals (dimensionless) on the detector's pixels. */
+using ProjectionType = itk::Image<float, 2>;
+/** What every renderer is: the point-based filter or an exact projector. */
+using BaseFilterType = itk::DRRImageFilterBase<VolumeType, ProjectionType>;
+/** The point-based renderer. */
+using PointFilterType = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>;
+
+/** The renderer the options ask for, its input and transfer function set, its view not. */
+struct Renderer
+{
+  BaseFilterType::Pointer  Filter; ///< the filter that renders (point-based or exact)
+  PointFilterType::Pointer Points; ///< the same filter if it is point-based, else null (--exact)
+};
+
+/** Builds the renderer of the options (sampler, kernel, splat, control variate, or --exact) for volume. */
+Renderer
+MakeRenderer(const Options & options, const VolumeType * volume);
+
+/** The view the options describe: the geometry file, then the flags over it, --projection-matrix or --geometry-from;
+ * the default isocenter is the volume's centre (the room origin for a null volume, to check the flags before a load).
+ * Throws UsageError or itk::ExceptionObject for a view that cannot be. */
+itk::DRRProjectionGeometry::Pointer
+MakeGeometry(const Options & options, const VolumeType * volume);
+
+/** HU (or mu) to attenuation, as --input-units, --energy, --mu-water and --air-threshold say. */
+itk::DRRTransferFunction::Pointer
+MakeTransferFunction(const Options & options);
+
+/** The output kind an extension stands for: "png" (gray levels) or "float". Throws UsageError for others. */
+std::string
+OutputKind(const std::string & path);
+
+/** The output mode: --output-mode, or the output extension's own; refuses a mode the extension cannot hold. */
+std::string
+OutputMode(const Options & options);
+
+/** Throws unless a file can be written at path (checked without creating anything). */
+void
+CheckWritable(const std::string & path);
+
+/** Writes options.output (and options.standardErrorOutput if standardError is not null) in the output mode, each
+ * through a temporary name renamed when whole; notes gets the gray window chosen, if any. */
+void
+WriteOutputs(const Options &            options,
+             const ProjectionType *     lineIntegral,
+             const ProjectionType *     standardError,
+             std::vector<std::string> & notes);
+
+/** The path of the view beside output: output's stem (without .mha, .nii.gz, ...) + ".geometry.txt". */
+std::string
+GeometryPathBeside(const std::string & output);
+
+/** Writes the view beside output (output's stem + ".geometry.txt": the keys --geometry reads and, as comments, the
+ * 3 x 4 projection matrix), through a temporary name; returns its path. */
+std::string
+WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry * geometry);
+
 /** Loads, renders and writes as the options say. Throws std::runtime_error (or itk::ExceptionObject) on failure. */
 void
 Run(const Options & options);

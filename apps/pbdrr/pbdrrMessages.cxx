@@ -114,4 +114,15 @@ EndsWith(const std::string & s, const std::string & suffix)
 {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
+
+std::string
+JoinWords(const std::vector<std::string> & words, const std::string & separator)
+{
+  std::string text;
+  for (const auto & word : words)
+  {
+    text += (text.empty() ? "" : separator) + word;
+  }
+  return text;
+}
 } // namespace pbdrr

@@ -19,6 +19,7 @@
 #define pbdrrMessages_h
 
 #include <string>
+#include <vector>
 
 namespace pbdrr
 {
@@ -50,6 +51,10 @@ Lowercase(std::string s);
 /** True if s ends with suffix. */
 bool
 EndsWith(const std::string & s, const std::string & suffix);
+
+/** The words joined by separator ("a, b, c"). */
+std::string
+JoinWords(const std::vector<std::string> & words, const std::string & separator);
 
 /** Routes ITK warnings to stderr as "pbdrr: warning: ..." (cleaned), or nowhere when quiet. */
 void

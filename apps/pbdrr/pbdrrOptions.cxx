@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrOptions.h"
+#include "pbdrrMessages.h"
 #include "itkDRRControlVariate.h"
 #include "itkDRRNumberParser.h"
 #include "itkDRRPolicies.h"
@@ -91,12 +92,7 @@ Numbers(const std::vector<std::string> & values, const std::string & flag)
 [[noreturn]] void
 ThrowNotOneOf(const std::string & value, const std::string & flag, const std::vector<std::string> & allowed)
 {
-  std::string list;
-  for (const auto & a : allowed)
-  {
-    list += (list.empty() ? "" : ", ") + a;
-  }
-  throw UsageError(flag + " expects one of " + list + ", got '" + value + "'");
+  throw UsageError(flag + " expects one of " + JoinWords(allowed, ", ") + ", got '" + value + "'");
 }
 
 std::string
@@ -177,6 +173,24 @@ WholeNumber(const std::string & value, const std::string & flag, double lowest, 
   return static_cast<unsigned>(number);
 }
 
+/** --shard K/N: shard K (0 .. N - 1) of N. */
+std::array<unsigned, 2>
+ParseShard(const std::string & value)
+{
+  const size_t slash = value.find('/');
+  if (slash == std::string::npos)
+  {
+    throw UsageError("--shard expects K/N (shard K of N, K from 0 to N - 1), got '" + value + "'");
+  }
+  const unsigned count = WholeNumber(value.substr(slash + 1), "--shard N", 1, 1000000);
+  const unsigned index = WholeNumber(value.substr(0, slash), "--shard K", 0, 1000000);
+  if (index >= count)
+  {
+    throw UsageError("--shard " + value + ": K must be below N (shards are numbered 0 to N - 1)");
+  }
+  return { index, count };
+}
+
 /** --control-variate F|auto|off: the filter's factor (0 off, AutomaticControlVariateFactor for auto). */
 unsigned
 ControlVariateFactor(const std::string & value)
@@ -254,6 +268,12 @@ CombinedShortFlags(const std::string & word, const std::function<bool(const std:
   return singles;
 }
 } // namespace
+
+bool
+IsBatch(const Options & options)
+{
+  return options.angles || !options.viewsFile.empty() || !options.rtkGeometryFile.empty() || !options.manifest.empty();
+}
 
 Options
 ParseCommandLine(const std::vector<std::string> & arguments)
@@ -336,6 +356,17 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--window", { 2, [&](const auto & v) { options.window = Numbers<2>(v, "--window"); } } },
     { "--exact", { 1, [&](const auto & v) { options.exact = ExactReferenceKernel(v[0]); } } },
     { "--ss", { 1, [&](const auto & v) { options.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } } },
+    { "--angles", { 1, [&](const auto & v) { options.angles = WholeNumber(v[0], "--angles", 1, 1000000); } } },
+    { "--angle-step", { 1, [&](const auto & v) { options.angleStepDegrees = ParseNumber(v[0], "--angle-step"); } } },
+    { "--views", { 1, [&](const auto & v) { options.viewsFile = v[0]; } } },
+    { "--rtk-geometry", { 1, [&](const auto & v) { options.rtkGeometryFile = v[0]; } } },
+    { "--write-rtk-geometry", { 1, [&](const auto & v) { options.writeRtkGeometry = v[0]; } } },
+    { "--manifest", { 1, [&](const auto & v) { options.manifest = v[0]; } } },
+    { "--stack", { 0, [&](const auto &) { options.stack = true; } } },
+    { "--shard", { 1, [&](const auto & v) { options.shard = ParseShard(v[0]); } } },
+    { "--resume", { 0, [&](const auto &) { options.resume = true; } } },
+    { "--view-index", { 1, [&](const auto & v) { options.viewIndex = WholeNumber(v[0], "--view-index", 0, 1e9); } } },
+    { "--independent-views", { 0, [&](const auto &) { options.independentViews = true; } } },
     { "--quiet", { 0, [&](const auto &) { options.quiet = true; } } },
     { "-q", { 0, [&](const auto &) { options.quiet = true; } } },
     { "--verbose", { 0, [&](const auto &) { options.verbose = true; } } },
@@ -401,14 +432,28 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   {
     return options;
   }
-  if (positional.size() != 1)
+  if (!options.manifest.empty())
+  {
+    if (!positional.empty())
+    {
+      throw UsageError("--manifest names the volumes: give no INPUT (got '" + positional[0] + "')");
+    }
+    if (!options.output.empty())
+    {
+      throw UsageError("--manifest names the outputs (its output column): give no -o");
+    }
+  }
+  else if (positional.size() != 1)
   {
     throw UsageError(positional.empty() ? "no input given (pbdrr INPUT -o OUTPUT; see pbdrr --help)"
                                         : "one input expected, got " + std::to_string(positional.size()) + ": '" +
                                             positional[0] + "', '" + positional[1] + "', ...");
   }
-  options.input = positional[0];
-  if (options.output.empty())
+  else
+  {
+    options.input = positional[0];
+  }
+  if (options.output.empty() && options.manifest.empty())
   {
     throw UsageError("no output given: -o OUTPUT (.mha, .nrrd, .nii, .nii.gz, .tif: float; .png: 8-bit gray)");
   }

@@ -86,6 +86,19 @@ struct Options
   std::optional<itk::PointBasedDRREnums::ReconstructionKernel> exact;
   unsigned                                                     raysPerSide{ 1 };
 
+  /** Batches (pbdrrBatch.h): many views of one volume in one run; view k depends only on (seed, k). */
+  std::optional<unsigned> angles;               // --angles N: a gantry sweep of N views from --gantry (default 0)
+  std::optional<double>   angleStepDegrees;     // --angle-step DEG: degrees between the sweep's views (default 360 / N)
+  std::string             viewsFile;            // --views FILE: one view per line (CSV with a header, pbdrrViewList.h)
+  std::string             rtkGeometryFile;      // --rtk-geometry FILE: RTK's projection geometry XML
+  std::string             writeRtkGeometry;     // --write-rtk-geometry FILE: the batch's views as RTK's XML
+  std::string             manifest;             // --manifest FILE: volumes and their views (CSV, pbdrrManifest.h)
+  bool                    stack{ false };       // --stack: one 3D image, a slice per view, instead of numbered files
+  std::optional<std::array<unsigned, 2>> shard; // --shard K/N: the views k with k mod N = K
+  bool                                   resume{ false };           // --resume: skip views whose output exists
+  std::optional<uint64_t>                viewIndex;                 // --view-index K: view K of the batch alone
+  bool                                   independentViews{ false }; // --independent-views: new points per view
+
   bool        quiet{ false };
   std::string listSeries; // --list-series ROOT: list the DICOM series of an export tree and stop
   /** Warnings about options that parse but look like a mistake (e.g. --gantry in radians); printed before the work. */
@@ -102,6 +115,10 @@ ParseCommandLine(const std::vector<std::string> & arguments);
 /** Number of samples: a whole number, scientific (1e7) or with a K/M/G suffix (16M = 16 000 000), 1 .. 2^40. */
 uint64_t
 ParseSampleCount(const std::string & text);
+
+/** True if the options ask for a batch of views (--angles, --views, --rtk-geometry, --manifest). */
+bool
+IsBatch(const Options & options);
 
 /** A finite number, the whole token. */
 double

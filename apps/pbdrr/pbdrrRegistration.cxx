@@ -282,6 +282,15 @@ ToPose(const EulerType::ParametersType & parameters)
 }
 } // namespace
 
+itk::Euler3DTransform<double>::Pointer
+MakePoseTransform(const VolumeType * volume, const std::array<double, 6> & pose)
+{
+  auto transform = EulerType::New();
+  transform->SetCenter(GeometryType::ComputeImageCenter(volume));
+  transform->SetParameters(ToParameters(pose));
+  return transform;
+}
+
 double
 MaskedNormalizedCorrelation(const float * a, const float * b, const std::vector<uint8_t> & mask)
 {
@@ -469,9 +478,7 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
     CheckDetectorBeyondVolume(xray.Geometry, volume, 50.0, "the X-ray " + xray.Description);
   }
   const auto begin = std::chrono::steady_clock::now();
-  auto       pose = EulerType::New();
-  pose->SetCenter(GeometryType::ComputeImageCenter(volume));
-  pose->SetParameters(ToParameters(settings.StartPose));
+  auto       pose = MakePoseTransform(volume, settings.StartPose);
 
   // One filter per X-ray for the whole schedule: kept points are drawn once and re-projected at every pose and level.
   std::vector<SimilarityCost::Level> filters(xrays.size());

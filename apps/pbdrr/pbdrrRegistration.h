@@ -21,6 +21,7 @@
 #include "pbdrrVolumeLoader.h"
 
 #include "itkDRRProjectionGeometry.h"
+#include "itkEuler3DTransform.h"
 #include "itkImage.h"
 
 #include <array>
@@ -95,6 +96,11 @@ CheckDetectorBeyondVolume(const itk::DRRProjectionGeometry * geometry,
                           const itk::ImageBase<3> *          volume,
                           double                             marginInMillimeters,
                           const std::string &                flag);
+
+/** The rigid pose tx ty tz (mm) rx ry rz (degrees) of the CT in the room, as RegistrationSettings defines it: a
+ * transform from the CT's frame to the room, about the centre of the CT's grid. */
+itk::Euler3DTransform<double>::Pointer
+MakePoseTransform(const VolumeType * volume, const std::array<double, 6> & pose);
 
 /** Registers the CT volume (HU) to the X-rays. */
 RegistrationResult

@@ -1,0 +1,507 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "pbdrrBatch.h"
+#include "pbdrrApplication.h"
+#include "pbdrrMessages.h"
+#include "pbdrrOutputFiles.h"
+#include "pbdrrRegistration.h"
+#include "pbdrrVolumeLoader.h"
+
+#include "itkImageFileWriter.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace pbdrr
+{
+namespace
+{
+double
+Now()
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+bool
+IsDirectory(const std::string & path)
+{
+  struct stat status;
+  return stat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode);
+}
+
+/** The options a batch cannot take, or takes only together; throws UsageError. */
+void
+CheckBatchOptions(const Options & options)
+{
+  const int sources =
+    (options.angles ? 1 : 0) + (options.viewsFile.empty() ? 0 : 1) + (options.rtkGeometryFile.empty() ? 0 : 1);
+  if (sources != 1)
+  {
+    throw UsageError("give the views one way: --angles, --views or --rtk-geometry");
+  }
+  if (options.angleStepDegrees && !options.angles)
+  {
+    throw UsageError("--angle-step is the step of an --angles sweep");
+  }
+  if (options.angles && options.normal)
+  {
+    throw UsageError("--angles sweeps the gantry from --gantry: it cannot be combined with --nrm");
+  }
+  if (!options.rtkGeometryFile.empty())
+  {
+    std::vector<std::string> flags;
+    for (const auto & flag : { std::make_pair(options.gantryDegrees.has_value(), "--gantry"),
+                               std::make_pair(options.normal.has_value(), "--nrm"),
+                               std::make_pair(options.viewUp.has_value(), "--vup"),
+                               std::make_pair(options.isocenter.has_value(), "--isocenter"),
+                               std::make_pair(options.sad.has_value(), "--sad"),
+                               std::make_pair(options.sid.has_value(), "--sid"),
+                               std::make_pair(options.detectorOffset.has_value(), "--offset"),
+                               std::make_pair(options.projection.has_value(), "--projection"),
+                               std::make_pair(!options.geometryFile.empty(), "--geometry") })
+    {
+      if (flag.first)
+      {
+        flags.push_back(flag.second);
+      }
+    }
+    if (!flags.empty())
+    {
+      throw UsageError("--rtk-geometry gives every view whole (with --size and --spacing for the pixels): it cannot be "
+                       "combined with " +
+                       JoinWords(flags, ", "));
+    }
+  }
+  if (!options.projectionMatrixFile.empty() || !options.geometryFrom.empty())
+  {
+    throw UsageError("--projection-matrix and --geometry-from give one view: a batch takes its views from --angles, "
+                     "--views or --rtk-geometry");
+  }
+  if (!options.standardErrorOutput.empty())
+  {
+    throw UsageError("--stderr writes one view's standard error: it is not available in a batch");
+  }
+  if (options.viewIndex && options.shard)
+  {
+    throw UsageError("--view-index renders one view: it cannot be combined with --shard");
+  }
+  if (options.stack && (options.shard || options.resume))
+  {
+    throw UsageError("--stack writes one file for all the views: shards and --resume need numbered files "
+                     "(-o view_%04d.mha)");
+  }
+  if (options.independentViews && options.exact)
+  {
+    throw UsageError("--independent-views draws new points per view: an --exact render draws none");
+  }
+  if (HasDetachedHeader(options.output))
+  {
+    throw UsageError("output " + options.output +
+                     ": a batch writes each file whole under a temporary name and "
+                     "renames it; a header and its pixels in two files (.mhd, .nhdr) cannot be: use .mha or .nrrd");
+  }
+  if (options.stack)
+  {
+    const std::string mode = OutputMode(options);
+    if (OutputKind(options.output) != "float" || (mode != "line-integral" && mode != "transmission"))
+    {
+      throw UsageError("--stack writes a 3D float image (.mha, .nrrd, .nii): line integrals or transmission");
+    }
+  }
+}
+
+std::vector<ViewSpec>
+ReadViews(const Options & options, std::string & from)
+{
+  if (options.angles)
+  {
+    from = "--angles";
+    return MakeSweep(*options.angles,
+                     options.gantryDegrees.value_or(0.0),
+                     options.angleStepDegrees.value_or(360.0 / static_cast<double>(*options.angles)));
+  }
+  if (!options.viewsFile.empty())
+  {
+    from = options.viewsFile;
+    return ReadViewsFile(options.viewsFile);
+  }
+  from = options.rtkGeometryFile;
+  throw UsageError("--rtk-geometry: not available yet");
+}
+
+/** Each view's output path: its own name in the -o folder, the pattern's, or the stack. */
+std::vector<std::string>
+ResolveOutputs(const Options & options, const std::vector<ViewSpec> & views)
+{
+  std::vector<std::string> outputs(views.size(), options.output);
+  if (options.stack)
+  {
+    if (std::any_of(views.begin(), views.end(), [](const ViewSpec & v) { return !v.Output.empty(); }))
+    {
+      throw UsageError("--stack writes one file: the views file's output column cannot name the views' files");
+    }
+    return outputs;
+  }
+  const bool        folderOnly = EndsWith(options.output, "/") || IsDirectory(options.output);
+  const std::string folder =
+    folderOnly ? options.output.substr(0, options.output.find_last_not_of('/') + 1) : DirectoryOf(options.output);
+  const OutputPattern pattern(folderOnly ? std::string() : options.output);
+  for (size_t k = 0; k < views.size(); ++k)
+  {
+    if (!views[k].Output.empty())
+    {
+      outputs[k] = (folder.empty() ? "/" : folder + "/") + views[k].Output;
+      continue;
+    }
+    if (folderOnly)
+    {
+      throw UsageError("-o " + options.output + " is a folder, and " + DescribeView(views[k], k, options.viewsFile) +
+                       " has no output name: give a pattern, e.g. -o " + options.output +
+                       (EndsWith(options.output, "/") ? "" : "/") + "view_%04d.mha");
+    }
+    if (pattern.HasCounter())
+    {
+      outputs[k] = pattern.Format(k);
+    }
+    else if (views.size() > 1 && !options.viewIndex)
+    {
+      throw UsageError("output " + options.output + " has no view counter for " + std::to_string(views.size()) +
+                       " views: give a pattern such as view_%04d.mha (%d, %04d: the view's number), or --stack");
+    }
+    else
+    {
+      outputs[k] = pattern.Format(0);
+    }
+  }
+  return outputs;
+}
+
+/** Refuses two views writing one file (image or geometry), an extension or folder that cannot be written. */
+void
+CheckOutputs(const Options & options, const BatchPlan & plan)
+{
+  std::map<std::string, uint64_t> written;
+  std::set<std::string>           checkedFolders;
+  for (const uint64_t k : plan.Selected)
+  {
+    const std::string & output = plan.Outputs[k];
+    Options             viewOptions = options;
+    viewOptions.output = output;
+    OutputMode(viewOptions);
+    if (checkedFolders.insert(DirectoryOf(output)).second)
+    {
+      CheckWritable(output);
+    }
+  }
+  if (options.stack)
+  {
+    return;
+  }
+  const bool all = plan.Selected.size() == plan.Views.size() || options.shard;
+  for (uint64_t k = 0; k < plan.Views.size(); ++k)
+  {
+    if (!all && !std::binary_search(plan.Selected.begin(), plan.Selected.end(), k))
+    {
+      continue;
+    }
+    for (const std::string & path : { plan.Outputs[k], GeometryPathBeside(plan.Outputs[k]) })
+    {
+      const auto inserted = written.emplace(path, k);
+      if (!inserted.second)
+      {
+        throw UsageError("two views write " + path + ": " +
+                         DescribeView(plan.Views[inserted.first->second], inserted.first->second, plan.ViewsFrom) +
+                         " and " + DescribeView(plan.Views[k], k, plan.ViewsFrom));
+      }
+    }
+  }
+}
+
+/** Builds every view once, before the load, so that a bad view stops the batch before any rendering. */
+void
+CheckViews(const Options & options, const BatchPlan & plan)
+{
+  for (uint64_t k = 0; k < plan.Views.size(); ++k)
+  {
+    if (plan.Views[k].Whole)
+    {
+      continue;
+    }
+    try
+    {
+      MakeGeometry(ApplyView(options, plan.Views[k]), nullptr);
+    }
+    catch (const itk::ExceptionObject & e)
+    {
+      throw UsageError(DescribeView(plan.Views[k], k, plan.ViewsFrom) + ": " + CleanMessage(e.GetDescription()));
+    }
+    catch (const std::exception & e)
+    {
+      throw UsageError(DescribeView(plan.Views[k], k, plan.ViewsFrom) + ": " + e.what());
+    }
+  }
+}
+
+itk::DRRProjectionGeometry::Pointer
+ViewGeometry(const Options & options, const ViewSpec & view, const VolumeType * volume)
+{
+  return view.Whole ? view.Whole : MakeGeometry(ApplyView(options, view), volume);
+}
+
+/** The stack: one slice per view, the detector's pixel pitch in plane, 1 between slices (as RTK stores projections). */
+VolumeType::Pointer
+MakeStack(const itk::DRRProjectionGeometry * geometry, size_t views)
+{
+  auto                 stack = VolumeType::New();
+  VolumeType::SizeType size{ { geometry->GetDetectorSize()[0], geometry->GetDetectorSize()[1], views } };
+  stack->SetRegions(size);
+  VolumeType::SpacingType spacing;
+  spacing[0] = geometry->GetDetectorSpacing()[0];
+  spacing[1] = geometry->GetDetectorSpacing()[1];
+  spacing[2] = 1.0;
+  stack->SetSpacing(spacing);
+  stack->Allocate(true);
+  return stack;
+}
+} // namespace
+
+uint64_t
+ViewSeed(uint64_t seed, uint64_t k)
+{
+  uint64_t z = seed + 0x9E3779B97F4A7C15ull * (k + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+BatchPlan
+PlanBatch(const Options & options, uint64_t shardOffset)
+{
+  CheckBatchOptions(options);
+  BatchPlan plan;
+  plan.Views = ReadViews(options, plan.ViewsFrom);
+  plan.Outputs = ResolveOutputs(options, plan.Views);
+  if (options.viewIndex)
+  {
+    if (*options.viewIndex >= plan.Views.size())
+    {
+      throw UsageError("--view-index " + std::to_string(*options.viewIndex) + ": the batch has " +
+                       std::to_string(plan.Views.size()) + " views (0 to " + std::to_string(plan.Views.size() - 1) +
+                       ")");
+    }
+    plan.Selected = { *options.viewIndex };
+  }
+  else
+  {
+    for (uint64_t k = 0; k < plan.Views.size(); ++k)
+    {
+      if (!options.shard || (k + shardOffset) % (*options.shard)[1] == (*options.shard)[0])
+      {
+        plan.Selected.push_back(k);
+      }
+    }
+  }
+  CheckOutputs(options, plan);
+  CheckViews(options, plan);
+  if (options.resume)
+  {
+    const auto done = [&](uint64_t k) {
+      return FileExists(plan.Outputs[k]) && FileExists(GeometryPathBeside(plan.Outputs[k]));
+    };
+    const auto end = std::remove_if(plan.Selected.begin(), plan.Selected.end(), done);
+    plan.Skipped = static_cast<uint64_t>(plan.Selected.end() - end);
+    plan.Selected.erase(end, plan.Selected.end());
+  }
+  return plan;
+}
+
+BatchProgress::BatchProgress(uint64_t total, bool enabled)
+  : m_Total(total), m_Enabled(enabled), m_Terminal(isatty(fileno(stderr)) != 0), m_Start(Now()), m_LastPrint(m_Start)
+{}
+
+BatchProgress::~BatchProgress()
+{
+  if (m_Enabled && m_Terminal && !m_Finished && m_Done > 0)
+  {
+    std::fprintf(stderr, "\n");
+  }
+}
+
+void
+BatchProgress::ViewDone()
+{
+  ++m_Done;
+  const double now = Now();
+  if (m_Enabled && (m_Terminal ? now - m_LastPrint >= 0.2 : now - m_LastPrint >= 10.0))
+  {
+    m_LastPrint = now;
+    this->Print(false);
+  }
+}
+
+void
+BatchProgress::Print(bool final)
+{
+  const double seconds = Now() - m_Start;
+  const double rate = seconds > 0.0 ? static_cast<double>(m_Done) / seconds : 0.0;
+  char         line[160];
+  if (final)
+  {
+    std::snprintf(line,
+                  sizeof(line),
+                  "pbdrr: rendered %llu views in %.1f s (%.1f views/s)",
+                  static_cast<unsigned long long>(m_Done),
+                  seconds,
+                  rate);
+  }
+  else
+  {
+    const double left = rate > 0.0 ? static_cast<double>(m_Total - m_Done) / rate : 0.0;
+    std::snprintf(line,
+                  sizeof(line),
+                  "pbdrr: views %llu / %llu, %.1f views/s, about %.0f s left",
+                  static_cast<unsigned long long>(m_Done),
+                  static_cast<unsigned long long>(m_Total),
+                  rate,
+                  left);
+  }
+  if (m_Terminal)
+  {
+    std::fprintf(stderr, "\r%-79s%s", line, final ? "\n" : "");
+  }
+  else
+  {
+    std::fprintf(stderr, "%s\n", line);
+  }
+  std::fflush(stderr);
+}
+
+void
+BatchProgress::Finish()
+{
+  if (m_Enabled && !m_Finished)
+  {
+    this->Print(true);
+  }
+  m_Finished = true;
+}
+
+void
+RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
+{
+  const bool         chatty = !options.quiet;
+  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, {});
+  if (chatty)
+  {
+    for (const auto & note : loaded.Notes)
+    {
+      std::cerr << "pbdrr: " << note << std::endl;
+    }
+  }
+  const VolumeType * volume = loaded.Image;
+  const Renderer     renderer = MakeRenderer(options, volume);
+  if (renderer.Points)
+  {
+    // One draw serves every view: view k's image is then a function of (seed, its view) alone.
+    renderer.Points->SetReusePoints(!options.independentViews);
+  }
+  VolumeType::Pointer      stack;
+  std::vector<std::string> notes;
+  for (size_t s = 0; s < plan.Selected.size(); ++s)
+  {
+    const uint64_t   k = plan.Selected[s];
+    const ViewSpec & view = plan.Views[k];
+    const auto       geometry = ViewGeometry(options, view, volume);
+    renderer.Filter->SetGeometry(geometry);
+    renderer.Filter->SetTransform(view.Pose ? MakePoseTransform(volume, *view.Pose)->GetInverseTransform() : nullptr);
+    if (renderer.Points && options.independentViews)
+    {
+      renderer.Points->SetSeed(ViewSeed(options.seed, k));
+    }
+    renderer.Filter->Update();
+    const ProjectionType * image = renderer.Filter->GetOutput();
+    if (options.stack)
+    {
+      if (!stack)
+      {
+        stack = MakeStack(geometry, plan.Selected.size());
+      }
+      const size_t pixels = image->GetBufferedRegion().GetNumberOfPixels();
+      if (pixels * plan.Selected.size() != stack->GetBufferedRegion().GetNumberOfPixels())
+      {
+        throw UsageError("--stack needs one detector size for every view; " + DescribeView(view, k, plan.ViewsFrom) +
+                         " has another");
+      }
+      const bool transmission = OutputMode(options) == "transmission";
+      float *    slice = stack->GetBufferPointer() + s * pixels;
+      for (size_t p = 0; p < pixels; ++p)
+      {
+        const float value = image->GetBufferPointer()[p];
+        slice[p] = transmission ? std::exp(-value) : value;
+      }
+    }
+    else
+    {
+      Options viewOptions = options;
+      viewOptions.output = plan.Outputs[k];
+      WriteGeometryBeside(plan.Outputs[k], geometry); // before the image: --resume counts a view done by its image
+      WriteOutputs(viewOptions, image, nullptr, notes);
+    }
+    progress.ViewDone();
+  }
+  if (stack)
+  {
+    WriteAtomically(options.output, [&](const std::string & temporary) { itk::WriteImage(stack, temporary); });
+  }
+}
+
+void
+RunBatch(const Options & options)
+{
+  const BatchPlan plan = PlanBatch(options);
+  const bool      chatty = !options.quiet;
+  if (options.threads > 0)
+  {
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
+  }
+  if (chatty)
+  {
+    for (const auto & warning : options.warnings)
+    {
+      std::cerr << "pbdrr: warning: " << warning << std::endl;
+    }
+    std::cerr << "pbdrr: " << plan.Selected.size() << " of " << plan.Views.size() << " views to render"
+              << (plan.Skipped ? " (" + std::to_string(plan.Skipped) + " done before: --resume)" : std::string())
+              << std::endl;
+  }
+  if (plan.Selected.empty())
+  {
+    return;
+  }
+  BatchProgress progress(plan.Selected.size(), chatty);
+  RenderBatch(options, plan, progress);
+  progress.Finish();
+}
+} // namespace pbdrr
