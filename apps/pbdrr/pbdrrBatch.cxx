@@ -412,7 +412,9 @@ void
 RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
 {
   const bool         chatty = !options.quiet;
+  const double       loadStart = Now();
   const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, {});
+  const double       loadSeconds = Now() - loadStart;
   if (chatty)
   {
     for (const auto & note : loaded.Notes)
@@ -426,7 +428,16 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
   {
     // One draw serves every view: view k's image is then a function of (seed, its view) alone.
     renderer.Points->SetReusePoints(!options.independentViews);
+    if (!options.independentViews && options.controlVariate == PointFilterType::AutomaticControlVariateFactor)
+    {
+      // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
+      // renders, so that the split, and so every view's image, is the same in every run and shard.
+      renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
+      renderer.Points->PrepareSampling();
+    }
   }
+  const double             renderStart = Now();
+  double                   firstViewSeconds = 0.0;
   VolumeType::Pointer      stack;
   std::vector<std::string> notes;
   for (size_t s = 0; s < plan.Selected.size(); ++s)
@@ -470,10 +481,31 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
       WriteOutputs(viewOptions, image, nullptr, notes);
     }
     progress.ViewDone();
+    if (s == 0)
+    {
+      firstViewSeconds = Now() - renderStart;
+    }
   }
   if (stack)
   {
     WriteAtomically(options.output, [&](const std::string & temporary) { itk::WriteImage(stack, temporary); });
+  }
+  if (options.verbose)
+  {
+    const double rest = Now() - renderStart - firstViewSeconds;
+    const size_t others = plan.Selected.size() - 1;
+    std::cerr << "pbdrr: time: load " << loadSeconds << " s; the first view (with the points' draw) "
+              << firstViewSeconds << " s; " << others << " more views " << rest << " s"
+              << (others ? ", " + std::to_string(1000.0 * rest / static_cast<double>(others)) + " ms each" : "")
+              << std::endl;
+    if (renderer.Points)
+    {
+      if (const itk::DRRControlVariate * split = renderer.Points->GetControlVariate())
+      {
+        std::cerr << "pbdrr: control variate F " << split->GetFactor() << ", M_r / M "
+                  << split->GetResidualMass() / split->GetTotalMass() << std::endl;
+      }
+    }
   }
 }
 
