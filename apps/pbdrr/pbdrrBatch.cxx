@@ -524,6 +524,9 @@ RunBatch(const Options & options)
     {
       std::cerr << "pbdrr: warning: " << warning << std::endl;
     }
+  }
+  if (chatty || options.verbose)
+  {
     std::cerr << "pbdrr: " << plan.Selected.size() << " of " << plan.Views.size() << " views to render"
               << (plan.Skipped ? " (" + std::to_string(plan.Skipped) + " done before: --resume)" : std::string())
               << std::endl;

@@ -615,6 +615,30 @@ Physics:
   --output-mode line-integral|transmission|gray8|gray16
   --window LEVEL WIDTH   gray window in line-integral units (default: percentiles)
 
+Batches: many views in one run, the volume loaded once and the points drawn once for every view; view k's image
+depends only on (--seed, k), whichever run, shard or thread count renders it:
+  --angles N             a gantry sweep of N views from --gantry (plastimatch's -a)
+  --angle-step DEG       degrees between the sweep's views (default 360 / N; plastimatch's -N)
+  --views FILE           one view per line, CSV with a header naming the columns: gantry | nrm_x nrm_y nrm_z,
+                         vup_x vup_y vup_z, iso_x iso_y iso_z, sad, sid, offset_u offset_v, the CT's pose tx ty tz
+                         rx ry rz (mm, degrees; as pbdrr register's), output (a file name in the -o folder); an
+                         empty or absent column keeps the command line's value
+  --rtk-geometry FILE    RTK's projection geometry XML (rtk::ThreeDCircularProjectionGeometry), with --size and
+                         --spacing for the pixels, centred as RTK's tools centre projections
+  --write-rtk-geometry FILE
+                         write the batch's views as RTK's XML
+  --manifest FILE        many volumes: CSV with a header, columns volume, output, and views (a views file or an
+                         RTK XML) or angles [angle_step] [gantry]; paths relative to the manifest; no INPUT, no -o
+  -o PATTERN             the views' files: a counter %d or %04d is the view's number (view_%04d.mha); each
+                         image gets its view beside it (.geometry.txt: the keys and the 3 x 4 matrix)
+  --stack                one 3D image instead, a slice per view (as RTK stores projections)
+  --shard K/N            render only the views k with k mod N = K (a manifest counts its views across volumes)
+  --resume               skip the views whose image and view are written (files are written under a temporary
+                         name and renamed: a killed run leaves no half-written file)
+  --view-index K         render view K of the batch alone: the same image as in any batch
+  --independent-views    new points for every view (seed from --seed and k) instead of one draw for all: views
+                         with independent noise, at the cost of a draw per view
+
 Input, other outputs and messages:
   --series UID           the DICOM series to read from a directory or export of several (default: the largest
                          CT volume; localizers never)
@@ -631,6 +655,8 @@ Examples:
   pbdrr ct.mha -o ref.mha --exact siddon --ss 4             noise-free Siddon DRR, 16 rays per pixel
   pbdrr ct.mha -o drr.png --geometry view.txt --size 256 256 --spacing 2.4 2.4
   pbdrr mu.mha -o drr.tif --input-units mu --parallel --nrm 0 -1 0
+  pbdrr ct_dir/ -o views/v_%04d.mha --angles 360 --angle-step 1 --size 256 256 --spacing 2.4 2.4
+                                                            a 360-view sweep, one load and one draw
 )";
 }
 } // namespace pbdrr

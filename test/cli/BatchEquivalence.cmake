@@ -1,0 +1,175 @@
+# A batch's views are functions of (seed, view index) alone (issue 17): the same images, bit for bit, from an --angles
+# sweep, the same views in a --views file, one --view-index, shards on any thread count, a --resume, and a stack.
+#
+#   cmake -DEXE=/path/to/pbdrr -DINPUT=volume.mha -DWORK=folder -P BatchEquivalence.cmake
+cmake_minimum_required(VERSION 3.16)
+foreach(variable EXE INPUT WORK)
+  if(NOT ${variable})
+    message(FATAL_ERROR "BatchEquivalence: ${variable} is not set")
+  endif()
+endforeach()
+file(REMOVE_RECURSE "${WORK}")
+# pbdrr writes into folders that exist (it creates none).
+foreach(folder sweep file shards independent poses)
+  file(MAKE_DIRECTORY "${WORK}/${folder}")
+endforeach()
+set(common --size 16 12 --samples 2e4 --seed 5 -q)
+set(views 6)
+math(EXPR last "${views} - 1")
+
+# run(NAME args...): pbdrr must succeed; its stderr goes to ${NAME}_stderr.
+function(run name)
+  execute_process(COMMAND "${EXE}" "${INPUT}" ${common} ${ARGN} RESULT_VARIABLE code ERROR_VARIABLE err TIMEOUT 120)
+  if(NOT code EQUAL 0)
+    string(REPLACE ";" " " shown "${ARGN}")
+    message(FATAL_ERROR "pbdrr ${shown}: exit ${code}\n${err}")
+  endif()
+  set(${name}_stderr "${err}" PARENT_SCOPE)
+endfunction()
+
+# same(A B WHAT): the two files are equal, byte for byte.
+function(same a b what)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${a}" "${b}" RESULT_VARIABLE differ)
+  if(differ)
+    message(FATAL_ERROR "${what}: ${a} and ${b} differ")
+  endif()
+endfunction()
+
+# The geometry files beside two images: equal but for their first line, which names the image.
+function(same_view a b what)
+  foreach(file a b)
+    file(STRINGS "${${file}}" lines)
+    list(REMOVE_AT lines 0)
+    set(${file}_lines "${lines}")
+  endforeach()
+  if(NOT a_lines STREQUAL b_lines)
+    message(FATAL_ERROR "${what}: the views of ${a} and ${b} differ")
+  endif()
+endfunction()
+
+# The reference: a sweep of 6 views from gantry 15 degrees, 60 degrees apart, on 2 threads.
+run(sweep --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/sweep/v_%d.mha --threads 2)
+
+# The same views in a views file (a view's gantry, two of them named by the file), on 1 thread.
+file(WRITE ${WORK}/views.csv "# the sweep's views\ngantry,output\n15,\n75,\n135,named_2.mha\n195,\n255,\n315,named_5.mha\n")
+run(file --views ${WORK}/views.csv -o ${WORK}/file/v_%d.mha --threads 1)
+foreach(k RANGE ${last})
+  set(image ${WORK}/file/v_${k}.mha)
+  if(k EQUAL 2 OR k EQUAL 5)
+    set(image ${WORK}/file/named_${k}.mha)
+  endif()
+  same(${WORK}/sweep/v_${k}.mha ${image} "--views view ${k} against the --angles sweep")
+endforeach()
+
+# One view by its index, and the shards, on 1 or 2 threads: the sweep's files.
+foreach(k 0 4)
+  run(one --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/one_${k}.mha --view-index ${k} --threads 1)
+  same(${WORK}/sweep/v_${k}.mha ${WORK}/one_${k}.mha "--view-index ${k} against the sweep")
+  same_view(${WORK}/sweep/v_${k}.geometry.txt ${WORK}/one_${k}.geometry.txt "--view-index ${k}'s view")
+endforeach()
+foreach(shard 0 1 2)
+  math(EXPR threads "1 + ${shard} % 2")
+  run(shard --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/shards/v_%d.mha --shard ${shard}/3
+      --threads ${threads})
+endforeach()
+file(GLOB reference RELATIVE ${WORK}/sweep ${WORK}/sweep/*)
+file(GLOB union RELATIVE ${WORK}/shards ${WORK}/shards/* ${WORK}/shards/.*)
+list(SORT reference)
+list(SORT union)
+if(NOT reference STREQUAL union)
+  message(FATAL_ERROR "the shards wrote ${union}, the sweep ${reference}")
+endif()
+foreach(file IN LISTS reference)
+  if(file MATCHES "\\.geometry\\.txt$")
+    same_view(${WORK}/sweep/${file} ${WORK}/shards/${file} "shard file ${file}")
+  else()
+    same(${WORK}/sweep/${file} ${WORK}/shards/${file} "shard file ${file}")
+  endif()
+endforeach()
+
+# --resume renders what is missing, and only that.
+file(REMOVE ${WORK}/shards/v_3.mha)
+run(resume --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/shards/v_%d.mha --resume)
+same(${WORK}/sweep/v_3.mha ${WORK}/shards/v_3.mha "--resume's view 3")
+run(resume_all --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/shards/v_%d.mha --resume -v)
+if(NOT resume_all_stderr MATCHES "0 of 6 views to render \\(6 done before: --resume\\)")
+  message(FATAL_ERROR "--resume over a finished batch: ${resume_all_stderr}")
+endif()
+
+# New points per view: view k reproduced by its index, and unlike the kept points' view k.
+run(independent --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/independent/v_%d.mha --independent-views)
+run(independent_one --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/independent_4.mha --view-index 4
+    --independent-views --threads 1)
+same(${WORK}/independent/v_4.mha ${WORK}/independent_4.mha "--independent-views --view-index 4")
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/independent/v_4.mha ${WORK}/sweep/v_4.mha
+                RESULT_VARIABLE differ_from_kept)
+if(NOT differ_from_kept)
+  message(FATAL_ERROR "--independent-views drew the kept points' view 4 again: not new points")
+endif()
+
+# One view twice: the kept points give it twice, new points per view (their seeds from k) two different images.
+file(WRITE ${WORK}/twice.csv "gantry\n15\n15\n")
+foreach(mode kept independent)
+  set(flag "")
+  if(mode STREQUAL "independent")
+    set(flag --independent-views)
+  endif()
+  run(twice --views ${WORK}/twice.csv -o ${WORK}/twice_${mode}_%d.mha ${flag})
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/twice_${mode}_0.mha ${WORK}/twice_${mode}_1.mha
+                  RESULT_VARIABLE twice_${mode}_differ)
+endforeach()
+if(twice_kept_differ OR NOT twice_independent_differ)
+  message(FATAL_ERROR "one view twice: the kept points must give one image (differ: ${twice_kept_differ}), new points "
+                      "per view two (differ: ${twice_independent_differ})")
+endif()
+
+# A pose per view: reproduced by its index, and not the pose-less view.
+file(WRITE ${WORK}/poses.csv "gantry,tx,ty,tz,rx,ry,rz\n15,0,0,0,0,0,0\n15,4,0,-2,0,0,10\n")
+run(poses --views ${WORK}/poses.csv -o ${WORK}/poses/v_%d.mha)
+run(pose_one --views ${WORK}/poses.csv -o ${WORK}/pose_1.mha --view-index 1 --threads 1)
+same(${WORK}/poses/v_1.mha ${WORK}/pose_1.mha "a posed view by its index")
+execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/poses/v_1.mha ${WORK}/poses/v_0.mha
+                RESULT_VARIABLE posed_differs)
+if(NOT posed_differs)
+  message(FATAL_ERROR "the pose tx 4 tz -2 rz 10 did not move the CT")
+endif()
+
+# A stack: one 3D image of the views, slice k the sweep's view k (the pixels after the header, 16 x 12 floats each).
+run(stack --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/stack.mha --stack)
+file(STRINGS ${WORK}/stack.mha dimensions REGEX "^DimSize")
+if(NOT dimensions STREQUAL "DimSize = 16 12 6")
+  message(FATAL_ERROR "the stack is ${dimensions}, not 16 x 12 x 6")
+endif()
+file(SIZE ${WORK}/stack.mha stack_size)
+math(EXPR stack_pixels "${stack_size} - 16 * 12 * 4 * ${views}")
+foreach(k RANGE ${last})
+  file(SIZE ${WORK}/sweep/v_${k}.mha view_size)
+  math(EXPR view_header "${view_size} - 16 * 12 * 4")
+  math(EXPR offset "${stack_pixels} + ${k} * 16 * 12 * 4")
+  file(READ ${WORK}/stack.mha slice OFFSET ${offset} LIMIT 768 HEX)
+  file(READ ${WORK}/sweep/v_${k}.mha pixels OFFSET ${view_header} LIMIT 768 HEX)
+  if(NOT slice STREQUAL pixels)
+    message(FATAL_ERROR "slice ${k} of the stack is not the sweep's view ${k}")
+  endif()
+endforeach()
+# A run killed midway leaves whole files, or none, under the views' names (each is written under a hidden temporary
+# name and renamed), and --resume completes it: the files of an uninterrupted run.
+set(long --angles 300 --angle-step 1.2 --size 48 48 --spacing 0.4 0.4)
+file(MAKE_DIRECTORY ${WORK}/whole ${WORK}/killed)
+run(whole ${long} -o ${WORK}/whole/v_%d.mha)
+execute_process(COMMAND "${EXE}" "${INPUT}" ${common} ${long} -o ${WORK}/killed/v_%d.mha TIMEOUT 0.3
+                RESULT_VARIABLE killed_code)
+file(GLOB written RELATIVE ${WORK}/killed ${WORK}/killed/v_*)
+list(LENGTH written killed_count)
+foreach(file IN LISTS written)
+  if(file MATCHES "\\.mha$")
+    same(${WORK}/whole/${file} ${WORK}/killed/${file} "a file of the killed run (exit ${killed_code})")
+  endif()
+endforeach()
+run(completed ${long} -o ${WORK}/killed/v_%d.mha --resume)
+foreach(k RANGE 299)
+  same(${WORK}/whole/v_${k}.mha ${WORK}/killed/v_${k}.mha "view ${k} after the killed run's --resume")
+endforeach()
+message(STATUS "the killed run (exit '${killed_code}') left ${killed_count} whole files; --resume completed them")
+
+message(STATUS "every batch form gave the sweep's images, bit for bit")
