@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrBatch.h"
+#include "pbdrrManifest.h"
 #include "pbdrrApplication.h"
 #include "pbdrrMessages.h"
 #include "pbdrrOutputFiles.h"
@@ -42,13 +43,6 @@ double
 Now()
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-bool
-IsDirectory(const std::string & path)
-{
-  struct stat status;
-  return stat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode);
 }
 
 /** The options a batch cannot take, or takes only together; throws UsageError. */
@@ -164,7 +158,7 @@ ResolveOutputs(const Options & options, const std::vector<ViewSpec> & views)
     }
     return outputs;
   }
-  const bool        folderOnly = EndsWith(options.output, "/") || IsDirectory(options.output);
+  const bool        folderOnly = EndsWith(options.output, "/") || IsDirectoryPath(options.output);
   const std::string folder =
     folderOnly ? options.output.substr(0, options.output.find_last_not_of('/') + 1) : DirectoryOf(options.output);
   const OutputPattern pattern(folderOnly ? std::string() : options.output);
@@ -512,6 +506,11 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
 void
 RunBatch(const Options & options)
 {
+  if (!options.manifest.empty())
+  {
+    RunManifest(options);
+    return;
+  }
   const BatchPlan plan = PlanBatch(options);
   const bool      chatty = !options.quiet;
   if (options.threads > 0)

@@ -157,3 +157,13 @@ FileExists(const std::string & path)
   return stat(path.c_str(), &status) == 0 && S_ISREG(status.st_mode);
 }
 } // namespace pbdrr
+
+namespace pbdrr
+{
+bool
+IsDirectoryPath(const std::string & path)
+{
+  struct stat status;
+  return stat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode);
+}
+} // namespace pbdrr

@@ -77,6 +77,10 @@ WriteAtomically(const std::string & path, const std::function<void(const std::st
 bool
 HasDetachedHeader(const std::string & path);
 
+/** True if a folder exists at path. */
+bool
+IsDirectoryPath(const std::string & path);
+
 /** True if a file exists at path. */
 bool
 FileExists(const std::string & path);

@@ -46,10 +46,8 @@ ViewsFileColumns()
   return columns;
 }
 
-namespace
-{
 std::string
-Trim(const std::string & text)
+TrimSpaces(const std::string & text)
 {
   const size_t begin = text.find_first_not_of(" \t\r");
   if (begin == std::string::npos)
@@ -60,18 +58,20 @@ Trim(const std::string & text)
 }
 
 std::vector<std::string>
-SplitCells(const std::string & line)
+SplitCsvCells(const std::string & line)
 {
   std::vector<std::string> cells;
   size_t                   begin = 0;
   for (size_t end; (end = line.find(',', begin)) != std::string::npos; begin = end + 1)
   {
-    cells.push_back(Trim(line.substr(begin, end - begin)));
+    cells.push_back(TrimSpaces(line.substr(begin, end - begin)));
   }
-  cells.push_back(Trim(line.substr(begin)));
+  cells.push_back(TrimSpaces(line.substr(begin)));
   return cells;
 }
 
+namespace
+{
 /** The column groups given whole: a vector is its three (or two) columns, or none of them. */
 const std::vector<std::vector<std::string>> &
 ColumnGroups()
@@ -163,7 +163,7 @@ ReadViewsFile(const std::string & path)
   for (std::string line; std::getline(file, line);)
   {
     ++lineNumber;
-    const std::string content = Trim(line);
+    const std::string content = TrimSpaces(line);
     const std::string where = path + " line " + std::to_string(lineNumber);
     if (content.empty() || content[0] == '#')
     {
@@ -173,7 +173,7 @@ ReadViewsFile(const std::string & path)
     {
       throw UsageError(where + ": not text (a views file is CSV)");
     }
-    const std::vector<std::string> cells = SplitCells(content);
+    const std::vector<std::string> cells = SplitCsvCells(content);
     if (columns.empty())
     {
       for (size_t c = 0; c < cells.size(); ++c)

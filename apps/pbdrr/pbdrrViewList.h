@@ -64,6 +64,14 @@ ReadViewsFile(const std::string & path);
 const std::vector<std::string> &
 ViewsFileColumns();
 
+/** The cells of a CSV line (split at commas, spaces around each trimmed; no quoting). */
+std::vector<std::string>
+SplitCsvCells(const std::string & line);
+
+/** text without the spaces, tabs and carriage returns around it. */
+std::string
+TrimSpaces(const std::string & text);
+
 /** The options of one view: the command line's, with the view's fields over them (its gantry replaces --nrm). */
 Options
 ApplyView(const Options & options, const ViewSpec & view);

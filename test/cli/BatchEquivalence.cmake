@@ -152,6 +152,26 @@ foreach(k RANGE ${last})
     message(FATAL_ERROR "slice ${k} of the stack is not the sweep's view ${k}")
   endif()
 endforeach()
+# A manifest of two volumes (the sweep, and the views file with a pose column), in two shards cutting across them:
+# each volume's files are its single batch's.
+file(MAKE_DIRECTORY ${WORK}/manifest_sweep ${WORK}/manifest_poses)
+file(WRITE ${WORK}/manifest.csv "volume,output,views,angles,angle_step,gantry\n"
+                                "${INPUT},manifest_sweep/v_%d.mha,,${views},60,15\n"
+                                "${INPUT},manifest_poses/v_%d.mha,poses.csv,,,\n")
+foreach(shard 0 1)
+  execute_process(COMMAND "${EXE}" --manifest ${WORK}/manifest.csv ${common} --shard ${shard}/2 --threads 1
+                  RESULT_VARIABLE code ERROR_VARIABLE err TIMEOUT 120)
+  if(NOT code EQUAL 0)
+    message(FATAL_ERROR "pbdrr --manifest --shard ${shard}/2: exit ${code}\n${err}")
+  endif()
+endforeach()
+foreach(k RANGE ${last})
+  same(${WORK}/sweep/v_${k}.mha ${WORK}/manifest_sweep/v_${k}.mha "the manifest's sweep, view ${k}")
+endforeach()
+foreach(k 0 1)
+  same(${WORK}/poses/v_${k}.mha ${WORK}/manifest_poses/v_${k}.mha "the manifest's views file, view ${k}")
+endforeach()
+
 # A run killed midway leaves whole files, or none, under the views' names (each is written under a hidden temporary
 # name and renamed), and --resume completes it: the files of an uninterrupted run.
 set(long --angles 300 --angle-step 1.2 --size 48 48 --spacing 0.4 0.4)
