@@ -48,7 +48,7 @@ for ((k = 0; k < VIEWS; k += stride)); do
 done
 
 accuracy=$(/usr/bin/python3 "$(dirname "$0")/batch_nrmse.py" "$OUT/reference/v_%04d.mha" "$OUT/batch/v_%04d.mha" "$VIEWS")
-/usr/bin/python3 - "$VIEWS" "$SEPARATE" "$batch" "$separate" "$same" "$SETTINGS" "$accuracy" "$(tail -n 2 "$OUT/batch.log" | head -n 1)" <<'PY'
+/usr/bin/python3 - "$VIEWS" "$SEPARATE" "$batch" "$separate" "$same" "$SETTINGS" "$accuracy" "$(grep "time:" "$OUT/batch.log")" <<'PY'
 import sys
 views, separate_runs, batch, separate, same, settings, accuracy, timing = sys.argv[1:]
 views, separate_runs, batch, separate, same = int(views), int(separate_runs), float(batch), float(separate), int(same)
