@@ -389,6 +389,68 @@ TEST(DRRRTKGeometryFileIO, VerifiedAgainstRTKComputedFile)
   EXPECT_TRUE(Contains(message, "RadiusCylindricalDetector")) << message;
 }
 
+/** The Matrix elements of an RTK geometry file, parsed here (not by the class under test). */
+std::vector<Matrix34>
+MatricesInFile(const std::string & fileName)
+{
+  std::ifstream      file(fileName);
+  std::ostringstream text;
+  text << file.rdbuf();
+  const std::string     xml = text.str();
+  std::vector<Matrix34> matrices;
+  for (auto at = xml.find("<Matrix>"); at != std::string::npos; at = xml.find("<Matrix>", at + 1))
+  {
+    std::istringstream numbers(xml.substr(at + 8, xml.find("</Matrix>", at) - at - 8));
+    Matrix34           m{};
+    for (int k = 0; k < 12; ++k)
+    {
+      numbers >> m[k / 4][k % 4];
+    }
+    EXPECT_FALSE(numbers.fail()) << fileName;
+    matrices.push_back(m);
+  }
+  return matrices;
+}
+
+// Verified against RTK itself: files RTK's own writer wrote (rtk::WriteGeometry(), RTK's source compiled against
+// Debian's ITK 5.2; see the comment in each file), views with every parameter non-zero (in-plane and out-of-plane
+// angles, source and projection offsets) and parallel views. Every room point goes to the detector point of RTK's
+// Matrix, through a centred grid and through a given origin with the rows reversed.
+TEST(DRRRTKGeometryFileIO, VerifiedAgainstRTKWrittenFiles)
+{
+  for (const char * name : { "rtk_written_geometry.xml", "rtk_written_parallel_geometry.xml" })
+  {
+    const std::string fileName = DataFile(name);
+    const auto        rtk = MatricesInFile(fileName);
+    ASSERT_EQ(rtk.size(), Contains(name, "parallel") ? 2u : 4u) << name;
+    for (const bool centred : { true, false })
+    {
+      auto io = IOType::New();
+      io->SetFileName(fileName);
+      io->SetDetectorSize(Size2(300, 200));
+      io->SetDetectorSpacing(Vec2(0.7, 0.9));
+      DetectorVectorType origin = Vec2(-0.5 * 299 * 0.7, -0.5 * 199 * 0.9);
+      if (!centred)
+      {
+        io->SetDetectorDirection(Direction(1, 0, 0, -1));
+        origin = Vec2(-100.0, 90.0);
+        io->SetDetectorOrigin(origin);
+      }
+      const auto geometries = io->Read();
+      ASSERT_EQ(geometries.size(), rtk.size());
+      for (size_t v = 0; v < rtk.size(); ++v)
+      {
+        EXPECT_EQ(geometries[v]->GetColumnsMirrored(), centred) << name;
+        ExpectSameDetectorPoints(rtk[v],
+                                 geometries[v],
+                                 origin,
+                                 io->GetDetectorDirection(),
+                                 std::string(name) + " view " + std::to_string(v) + (centred ? "" : ", rows reversed"));
+      }
+    }
+  }
+}
+
 // Verified against RTK's formula (the independent re-implementation) with every parameter non-zero: in-plane and
 // out-of-plane angles, source and projection offsets; with the centred origin, a given origin, and a projection
 // direction that flips and swaps the axes.
