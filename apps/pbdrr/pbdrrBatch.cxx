@@ -23,6 +23,7 @@
 #include "pbdrrRegistration.h"
 #include "pbdrrVolumeLoader.h"
 
+#include "itkDRRRTKGeometryFileIO.h"
 #include "itkImageFileWriter.h"
 
 #include <algorithm>
@@ -126,6 +127,61 @@ CheckBatchOptions(const Options & options)
   }
 }
 
+/** RTK's pixel grid for the views of options: --size and --spacing (pbdrr's defaults, 512 x 512 at 1.2 mm), centred
+ * as RTK's tools centre projections; RTK's image direction (identity) for views whose columns are mirrored, which is
+ * how RTK's images lie, and its rows reversed (diag(1, -1)) for views that are not. */
+itk::DRRRTKGeometryFileIO::Pointer
+MakeRTKGeometryIO(const Options & options, bool columnsMirrored)
+{
+  auto                        io = itk::DRRRTKGeometryFileIO::New();
+  const std::array<double, 2> size = options.detectorSize.value_or(std::array<double, 2>{ 512, 512 });
+  const std::array<double, 2> spacing = options.detectorSpacing.value_or(std::array<double, 2>{ 1.2, 1.2 });
+  itk::DRRRTKGeometryFileIO::DetectorVectorType    pitch;
+  itk::DRRRTKGeometryFileIO::DetectorDirectionType direction;
+  pitch[0] = spacing[0];
+  pitch[1] = spacing[1];
+  direction.SetIdentity();
+  direction[1][1] = columnsMirrored ? 1.0 : -1.0;
+  io->SetDetectorSize({ { static_cast<itk::SizeValueType>(size[0]), static_cast<itk::SizeValueType>(size[1]) } });
+  io->SetDetectorSpacing(pitch);
+  io->SetDetectorDirection(direction);
+  return io;
+}
+
+/** The view as RTK's parameters say it: the geometry rebuilt from its RTK parameters (zeros made +0, as the XML writes
+ * them), so that a view reads back from RTK's XML, written with 17 digits, to the same bits, and renders the same
+ * image. A view RTK cannot express (a localizer) stays as it is. */
+itk::DRRProjectionGeometry::Pointer
+CanonicalView(const Options & options, const itk::DRRProjectionGeometry::Pointer & geometry)
+{
+  if (geometry->GetProjection() == itk::PointBasedDRREnums::Projection::Localizer)
+  {
+    return geometry;
+  }
+  const auto io = MakeRTKGeometryIO(options, geometry->GetColumnsMirrored());
+  try
+  {
+    auto parameters = io->ComputeParameters(geometry);
+    for (double * value : { &parameters.GantryAngle,
+                            &parameters.OutOfPlaneAngle,
+                            &parameters.InPlaneAngle,
+                            &parameters.SourceToIsocenterDistance,
+                            &parameters.SourceOffsetX,
+                            &parameters.SourceOffsetY,
+                            &parameters.SourceToDetectorDistance,
+                            &parameters.ProjectionOffsetX,
+                            &parameters.ProjectionOffsetY })
+    {
+      *value += 0.0;
+    }
+    return io->MakeGeometry(parameters);
+  }
+  catch (const itk::ExceptionObject &)
+  {
+    return geometry;
+  }
+}
+
 std::vector<ViewSpec>
 ReadViews(const Options & options, std::string & from)
 {
@@ -142,7 +198,22 @@ ReadViews(const Options & options, std::string & from)
     return ReadViewsFile(options.viewsFile);
   }
   from = options.rtkGeometryFile;
-  throw UsageError("--rtk-geometry: not available yet");
+  const auto io = MakeRTKGeometryIO(options, true);
+  io->SetFileName(options.rtkGeometryFile);
+  std::vector<ViewSpec> views;
+  try
+  {
+    for (const auto & geometry : io->Read())
+    {
+      views.emplace_back();
+      views.back().Whole = geometry;
+    }
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    throw UsageError("--rtk-geometry " + options.rtkGeometryFile + ": " + CleanMessage(e.GetDescription()));
+  }
+  return views;
 }
 
 /** Each view's output path: its own name in the -o folder, the pattern's, or the stack. */
@@ -261,7 +332,34 @@ CheckViews(const Options & options, const BatchPlan & plan)
 itk::DRRProjectionGeometry::Pointer
 ViewGeometry(const Options & options, const ViewSpec & view, const VolumeType * volume)
 {
-  return view.Whole ? view.Whole : MakeGeometry(ApplyView(options, view), volume);
+  return view.Whole ? view.Whole : CanonicalView(options, MakeGeometry(ApplyView(options, view), volume));
+}
+
+/** --write-rtk-geometry: every view of the batch in RTK's XML (each shard writes the same file, whole). */
+void
+WriteRTKGeometry(const Options & options, const BatchPlan & plan, const VolumeType * volume)
+{
+  itk::DRRRTKGeometryFileIO::ConstGeometryListType geometries;
+  for (const ViewSpec & view : plan.Views)
+  {
+    // The view before CanonicalView(): the writer computes the same RTK parameters from it as CanonicalView() does
+    // (from the canonical view it would compute parameters a rounding apart), so the file reads back to its bits.
+    geometries.push_back(view.Whole ? view.Whole.GetPointer()
+                                    : MakeGeometry(ApplyView(options, view), volume).GetPointer());
+  }
+  const auto io = MakeRTKGeometryIO(options, geometries.front()->GetColumnsMirrored());
+  try
+  {
+    WriteAtomically(options.writeRtkGeometry, [&](const std::string & temporary) {
+      io->SetFileName(temporary);
+      io->Write(geometries);
+    });
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    throw std::runtime_error("--write-rtk-geometry " + options.writeRtkGeometry + ": " +
+                             CleanMessage(e.GetDescription()));
+  }
 }
 
 /** The stack: one slice per view, the detector's pixel pitch in plane, 1 between slices (as RTK stores projections). */
@@ -276,6 +374,18 @@ MakeStack(const itk::DRRProjectionGeometry * geometry, size_t views)
   spacing[1] = geometry->GetDetectorSpacing()[1];
   spacing[2] = 1.0;
   stack->SetSpacing(spacing);
+  // Origin and direction as RTK's XML places the pixels (MakeRTKGeometryIO(): centred; rows reversed unless the
+  // columns are mirrored), so that RTK reads the stack with the views pbdrr --write-rtk-geometry writes.
+  const double              flip = geometry->GetColumnsMirrored() ? 1.0 : -1.0;
+  VolumeType::PointType     origin;
+  VolumeType::DirectionType direction;
+  direction.SetIdentity();
+  direction[1][1] = flip;
+  origin[0] = -0.5 * (static_cast<double>(size[0]) - 1.0) * spacing[0];
+  origin[1] = -flip * 0.5 * (static_cast<double>(size[1]) - 1.0) * spacing[1];
+  origin[2] = 0.0;
+  stack->SetOrigin(origin);
+  stack->SetDirection(direction);
   stack->Allocate(true);
   return stack;
 }
@@ -318,6 +428,10 @@ PlanBatch(const Options & options, uint64_t shardOffset)
     }
   }
   CheckOutputs(options, plan);
+  if (!options.writeRtkGeometry.empty())
+  {
+    CheckWritable(options.writeRtkGeometry);
+  }
   CheckViews(options, plan);
   if (options.resume)
   {
@@ -429,6 +543,10 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
       renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
       renderer.Points->PrepareSampling();
     }
+  }
+  if (!options.writeRtkGeometry.empty())
+  {
+    WriteRTKGeometry(options, plan, volume);
   }
   const double             renderStart = Now();
   double                   firstViewSeconds = 0.0;

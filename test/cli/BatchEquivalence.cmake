@@ -123,6 +123,28 @@ if(twice_kept_differ OR NOT twice_independent_differ)
                       "per view two (differ: ${twice_independent_differ})")
 endif()
 
+# RTK's XML: a sweep of mirrored views (RTK's own pixel layout) written with --write-rtk-geometry reads back to the
+# same images; a sweep in pbdrr's layout is written with RTK's rows reversed, and reads back mirrored, as RTK lays
+# its projections out.
+file(WRITE ${WORK}/mirror.txt "mirror 1\n")
+file(MAKE_DIRECTORY ${WORK}/rtk_written ${WORK}/rtk_read ${WORK}/rtk_plain)
+run(rtk_write --angles ${views} --angle-step 60 --gantry 15 --geometry ${WORK}/mirror.txt
+    -o ${WORK}/rtk_written/v_%d.mha --write-rtk-geometry ${WORK}/sweep.xml)
+run(rtk_read --rtk-geometry ${WORK}/sweep.xml -o ${WORK}/rtk_read/v_%d.mha --threads 1)
+foreach(k RANGE ${last})
+  same(${WORK}/rtk_written/v_${k}.mha ${WORK}/rtk_read/v_${k}.mha "RTK's XML, view ${k}, against the sweep that wrote it")
+  same_view(${WORK}/rtk_written/v_${k}.geometry.txt ${WORK}/rtk_read/v_${k}.geometry.txt "RTK's XML, view ${k}")
+endforeach()
+run(rtk_plain --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/rtk_plain/v_%d.mha
+    --write-rtk-geometry ${WORK}/plain.xml --view-index 2)
+run(rtk_plain_read --rtk-geometry ${WORK}/plain.xml -o ${WORK}/rtk_plain/read_%d.mha --view-index 2)
+file(STRINGS ${WORK}/rtk_plain/v_2.geometry.txt written_mirror REGEX "^mirror")
+file(STRINGS ${WORK}/rtk_plain/read_2.geometry.txt read_mirror REGEX "^mirror")
+if(NOT written_mirror STREQUAL "mirror 0" OR NOT read_mirror STREQUAL "mirror 1")
+  message(FATAL_ERROR "pbdrr's layout written to RTK's XML ('${written_mirror}') must read back as RTK lays "
+                      "projections out ('${read_mirror}', expected mirror 1)")
+endif()
+
 # A pose per view: reproduced by its index, and not the pose-less view.
 file(WRITE ${WORK}/poses.csv "gantry,tx,ty,tz,rx,ry,rz\n15,0,0,0,0,0,0\n15,4,0,-2,0,0,10\n")
 run(poses --views ${WORK}/poses.csv -o ${WORK}/poses/v_%d.mha)
