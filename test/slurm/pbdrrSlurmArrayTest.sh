@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Renders a batch on a real one-node Slurm cluster, one shard per task of a job array (scripts/pbdrr-slurm-array.sbatch),
-# and checks that the shards' files are, bit for bit, the files one process renders (docs/slurm.md).
+# Renders a batch on a real one-node Slurm cluster, one shard per task of a job array
+# (scripts/pbdrr-slurm-array.sbatch), and checks that the shards' files are, bit for bit, the files one process
+# renders, and that the array resubmitted after a view was lost renders that view alone again (docs/slurm.md).
 #
 # Usage: pbdrrSlurmArrayTest.sh PBDRR SBATCH_SCRIPT CT
 # Exit 0: same files; 77: skipped (the reason on stdout); anything else: failed.
@@ -31,7 +32,8 @@ for tool in munged slurmctld slurmd sbatch sinfo scontrol scancel; do
   command -v "$tool" > /dev/null || skip "$tool not found (Debian: apt-get install slurm-wlm munge)"
 done
 [ -x "$pbdrr" ] || die "pbdrr $pbdrr is not executable"
-"$pbdrr" --help 2> /dev/null | grep -q -- --shard || skip "$pbdrr has no --shard"
+help=$("$pbdrr" --help 2>&1) || die "$pbdrr --help failed: $help"
+grep -q -- --shard <<< "$help" || skip "$pbdrr has no --shard" # (grep -q in a pipe: pbdrr's SIGPIPE fails it)
 [ -f "$sbatch_script" ] || die "no $sbatch_script"
 [ -f "$ct" ] || die "no CT $ct"
 echo "$(slurmctld -V), $(munged --version 2>&1 | head -n 1)"
@@ -94,6 +96,7 @@ pids+=($!)
 (
   trap '' INT TERM
   while kill -0 $$ 2> /dev/null; do sleep 1; done
+  # shellcheck disable=SC2046 # one pid a word
   kill -KILL "${pids[@]}" $(cat "$T"/*.pid "$T"/munge/*.pid 2> /dev/null) 2> /dev/null
   [ ! -f "$T/sbatch.pgid" ] || kill -KILL -- "-$(cat "$T/sbatch.pgid")"
   rm -rf "$T"
@@ -108,7 +111,7 @@ done
   die "munged did not start"
 }
 
-# --- slurm.conf --------------------------------------------------------------------------------------------------------
+# --- slurm.conf -------------------------------------------------------------------------------------------------------
 host=$(hostname -s)
 cpus=$(nproc)
 mem=$(($(awk '/^MemTotal:/ {print $2}' /proc/meminfo) / 1024 - 256))
@@ -152,7 +155,7 @@ PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
 EOF
 : > "$T/plugstack.conf"
 
-# --- slurmctld and slurmd -----------------------------------------------------------------------------------------------
+# --- slurmctld and slurmd ---------------------------------------------------------------------------------------------
 slurmctld -D -i -f "$SLURM_CONF" > "$T/log/slurmctld.out" 2>&1 &
 pids+=($!)
 slurmd -D -f "$SLURM_CONF" -N "$host" > "$T/log/slurmd.out" 2>&1 &
@@ -172,44 +175,59 @@ echo "cluster up: node $host idle ($cpus CPUs, ${mem} MB), slurmctld port $ctld_
 
 # --- the batch: 4 views, 3 shards (task ids 1-3: the first shard is task id - SLURM_ARRAY_TASK_MIN) -------------------
 views=(--angles 4 --angle-step 90 --gantry 10 --size 32 32 --spacing 4 4 --samples 3e4 --seed 7 -q)
-mkdir -p "$T/run/shards" "$T/run/one"
+# Both runs write out/view_%04d.mha from a folder of their own: a geometry file's first line names its image as -o
+# gave it, so the same -o is needed for the same bytes.
+mkdir -p "$T/run/shards/out" "$T/run/one/out"
 cd "$T/run" || die "cd"
-start=$SECONDS
-# timeout runs sbatch in a process group of its own: the watchdog ends it with the daemons.
-PBDRR=$pbdrr timeout 300 sbatch --parsable --wait --array=1-3 --cpus-per-task=1 \
-  --output="$T/log/task-%A_%a.log" "$sbatch_script" "$ct" "${views[@]}" -o 'shards/view_%04d.mha' > sbatch.out 2>&1 &
-sbatch_pid=$!
-echo "$sbatch_pid" > "$T/sbatch.pgid"
-wait "$sbatch_pid"
-rc=$?
-jobid=$(head -n 1 sbatch.out)
-jobid=${jobid%%;*}
-[ $rc = 0 ] || {
-  cat sbatch.out
-  logs
-  die "sbatch --wait exited $rc"
+submit() { # the array, waited for; its task logs in $T/log/task-JOB_TASK.log
+  local start=$SECONDS rc
+  # timeout runs sbatch in a process group of its own: the watchdog ends it with the daemons.
+  PBDRR=$pbdrr timeout 300 sbatch --parsable --wait --array=1-3 --cpus-per-task=1 --output="$T/log/task-%A_%a.log" \
+    --chdir="$T/run/shards" "$sbatch_script" "$ct" "${views[@]}" -o 'out/view_%04d.mha' > sbatch.out 2>&1 &
+  sbatch_pid=$!
+  echo "$sbatch_pid" > "$T/sbatch.pgid"
+  wait "$sbatch_pid"
+  rc=$?
+  jobid=$(head -n 1 sbatch.out)
+  jobid=${jobid%%;*}
+  [ $rc = 0 ] || {
+    cat sbatch.out
+    logs
+    die "sbatch --wait exited $rc"
+  }
+  echo "array job $jobid of 3 tasks done in $((SECONDS - start)) s:"
+  grep -h "shard" "$T/log/task-${jobid}"_*.log
+  jobid=
 }
-jobid=
-echo "array of 3 tasks done in $((SECONDS - start)) s"
-grep -h "shard" "$T"/log/task-*.log
+submit
+(cd one && "$pbdrr" "$ct" "${views[@]}" -o 'out/view_%04d.mha') || die "the one-process render exited $?"
 
-"$pbdrr" "$ct" "${views[@]}" -o 'one/view_%04d.mha' || die "the one-process render exited $?"
+# --- the same files, bit for bit --------------------------------------------------------------------------------------
+compare() {
+  (cd shards/out && ls -A) > shards.list
+  (cd one/out && ls -A) > one.list
+  diff one.list shards.list > /dev/null || {
+    diff one.list shards.list
+    die "the shards wrote other files than one process (< one process, > shards)"
+  }
+  if [ "$(grep -c '^view_000[0-3]\.mha$' one.list)" != 4 ] ||
+    [ "$(grep -c '^view_000[0-3]\.geometry\.txt$' one.list)" != 4 ]; then
+    cat one.list
+    die "expected view_0000..view_0003 .mha and .geometry.txt"
+  fi
+  local n=0 f
+  while read -r f; do
+    cmp "one/out/$f" "shards/out/$f" || die "shards/out/$f differs from one/out/$f"
+    n=$((n + 1))
+  done < one.list
+  echo "compared $n files with cmp, all equal, and the same list: $(tr '\n' ' ' < one.list)"
+}
+compare
 
-# --- the same files, bit for bit ----------------------------------------------------------------------------------------
-(cd shards && ls -A) > shards.list
-(cd one && ls -A) > one.list
-diff one.list shards.list > /dev/null || {
-  diff one.list shards.list
-  die "the shards wrote other files than one process (< one process, > shards)"
-}
-[ "$(grep -c '^view_000[0-3]\.mha$' one.list)" = 4 ] && [ "$(grep -c '^view_000[0-3]\.geometry\.txt$' one.list)" = 4 ] || {
-  cat one.list
-  die "expected view_0000..view_0003 .mha and .geometry.txt"
-}
-n=0
-while read -r f; do
-  cmp "one/$f" "shards/$f" || die "shards/$f differs from one/$f"
-  n=$((n + 1))
-done < one.list
-echo "compared $n files with cmp, all equal, and the same list: $(tr '\n' ' ' < one.list)"
+# --- resubmitted after a lost view: only that view is rendered again --------------------------------------------------
+rm shards/out/view_0002.mha
+kept=$(stat -c %i shards/out/view_0000.mha) # --resume skips it; a render would rename a new file over it
+submit
+[ "$(stat -c %i shards/out/view_0000.mha)" = "$kept" ] || die "the resubmitted array rendered view 0 again"
+compare
 echo "PASSED"
