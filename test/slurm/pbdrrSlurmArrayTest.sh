@@ -9,7 +9,8 @@
 # The cluster lives in a temporary folder and is gone when the script ends: a munge key and munged on its own socket,
 # a slurm.conf (this host as controller and only node, free ports, linuxproc and task/none so no cgroup is needed),
 # slurmctld and slurmd in the foreground (-D) in the background. Every daemon it started is stopped on exit, on
-# failure and on a signal; a watchdog stops them too if this script is killed outright (CTest's timeout).
+# failure and on a signal; a watchdog stops them too if this script is killed outright (CTest's timeout
+# kills it and its children).
 set -uo pipefail
 export PATH=$PATH:/usr/sbin:/sbin
 
@@ -46,6 +47,7 @@ sbatch_pid=
 cleanup() {
   local rc=$?
   trap - EXIT INT TERM
+  [ -z "$watchdog" ] || kill -KILL "$watchdog" 2> /dev/null
   [ -z "$jobid" ] || scancel "$jobid" 2> /dev/null
   [ -z "$sbatch_pid" ] || kill -TERM -- "-$sbatch_pid" 2> /dev/null
   for p in "${pids[@]}"; do kill -TERM "$p" 2> /dev/null; done
@@ -56,7 +58,6 @@ cleanup() {
     sleep 0.2
   done
   for p in "${pids[@]}"; do kill -KILL "$p" 2> /dev/null; done
-  [ -z "$watchdog" ] || kill -KILL "$watchdog" 2> /dev/null
   wait 2> /dev/null
   rm -rf "$T"
   exit $rc
@@ -91,17 +92,22 @@ dd if=/dev/urandom of="$T/munge/munge.key" bs=1024 count=1 status=none && chmod 
 munged --foreground --key-file="$T/munge/munge.key" --socket="$T/munge/munge.socket" \
   --pid-file="$T/munge/munged.pid" --log-file="$T/log/munged.log" --seed-file="$T/munge/munged.seed" \
   > "$T/log/munged.out" 2>&1 &
-pids+=($!)
-# The watchdog: if this script dies without its trap (SIGKILL), it stops the daemons and removes the folder.
-(
-  trap '' INT TERM
-  while kill -0 $$ 2> /dev/null; do sleep 1; done
-  # shellcheck disable=SC2046 # one pid a word
-  kill -KILL "${pids[@]}" $(cat "$T"/*.pid "$T"/munge/*.pid 2> /dev/null) 2> /dev/null
-  [ ! -f "$T/sbatch.pgid" ] || kill -KILL -- "-$(cat "$T/sbatch.pgid")"
-  rm -rf "$T"
-) > /dev/null 2>&1 &
-watchdog=$!
+pids+=($!) && echo $! >> "$T/daemons.pids"
+# The watchdog: if this script dies without its trap (SIGKILL: CTest's timeout kills the script and its children), it
+# stops the daemons and removes the folder. setsid -f detaches it, so that it is no child of this script.
+# shellcheck disable=SC2016 # expanded by the watchdog's shell
+setsid -f bash -c '
+  trap "" INT TERM HUP
+  echo $$ > "$2/watchdog.pid"
+  while kill -0 "$1"; do sleep 1; done
+  kill -KILL $(cat "$2/daemons.pids" "$2/slurmctld.pid" "$2/slurmd.pid" "$2/munge/munged.pid")
+  [ ! -f "$2/sbatch.pgid" ] || kill -KILL -- "-$(cat "$2/sbatch.pgid")"
+  rm -rf "$2"' watchdog $$ "$T" < /dev/null > /dev/null 2>&1
+for _ in $(seq 50); do
+  [ -s "$T/watchdog.pid" ] && break
+  sleep 0.1
+done
+watchdog=$(cat "$T/watchdog.pid") || die "the watchdog did not start"
 for _ in $(seq 50); do
   [ -S "$T/munge/munge.socket" ] && break
   sleep 0.1
@@ -157,9 +163,9 @@ EOF
 
 # --- slurmctld and slurmd ---------------------------------------------------------------------------------------------
 slurmctld -D -i -f "$SLURM_CONF" > "$T/log/slurmctld.out" 2>&1 &
-pids+=($!)
+pids+=($!) && echo $! >> "$T/daemons.pids"
 slurmd -D -f "$SLURM_CONF" -N "$host" > "$T/log/slurmd.out" 2>&1 &
-pids+=($!)
+pids+=($!) && echo $! >> "$T/daemons.pids"
 state=
 for _ in $(seq 60); do
   state=$(sinfo -h -N -n "$host" -o %t 2> /dev/null)
@@ -182,7 +188,7 @@ cd "$T/run" || die "cd"
 submit() { # the array, waited for; its task logs in $T/log/task-JOB_TASK.log
   local start=$SECONDS rc
   # timeout runs sbatch in a process group of its own: the watchdog ends it with the daemons.
-  PBDRR=$pbdrr timeout 300 sbatch --parsable --wait --array=1-3 --cpus-per-task=1 --output="$T/log/task-%A_%a.log" \
+  PBDRR=$pbdrr timeout 150 sbatch --parsable --wait --array=1-3 --cpus-per-task=1 --output="$T/log/task-%A_%a.log" \
     --chdir="$T/run/shards" "$sbatch_script" "$ct" "${views[@]}" -o 'out/view_%04d.mha' > sbatch.out 2>&1 &
   sbatch_pid=$!
   echo "$sbatch_pid" > "$T/sbatch.pgid"
