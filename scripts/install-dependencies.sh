@@ -3,7 +3,8 @@
 set -euo pipefail
 packages=(build-essential cmake libinsighttoolkit5-dev libgdcm-dev libgtest-dev invesalius-examples
   clang libclang-rt-14-dev llvm # clang, libFuzzer and the sanitizers' runtimes, llvm-symbolizer: test/fuzz
-  doxygen clang-format)         # the docs target and its test, the formatting test (docs/, test/format)
+  doxygen clang-format          # the docs target and its test, the formatting test (docs/, test/format)
+  slurm-wlm munge parallel)     # batches on a Slurm cluster or GNU parallel, the test's own cluster (docs/slurm.md, test/slurm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
