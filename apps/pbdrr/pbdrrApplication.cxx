@@ -516,7 +516,8 @@ WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry
 {
   const std::string  path = GeometryPathBeside(output);
   std::ostringstream text;
-  text << "# the view of " << output << " (pbdrr --geometry reads it)\n";
+  // The image's file name, not its path: the same view written into another folder (a shard's) is the same file.
+  text << "# the view of " << output.substr(output.find_last_of('/') + 1) << " (pbdrr --geometry reads it)\n";
   if (geometry->HasProjectionMatrix())
   {
     // The matrix in the format --projection-matrix reads, commented out (remove the '#   ' to use it).
