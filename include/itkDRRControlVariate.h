@@ -112,7 +112,8 @@ public:
 
   /** Renders the coarse image for projection (built for the fine volume) with two replicates of raysPerSide^2 rays per
    * pixel drawn from the splat's footprint (streams of seed) and adds it to a render of the residual's points: the line
-   * integral becomes L_c + L_r and the standard error sqrt(se_c^2 + se_r^2). threader: not null. */
+   * integral becomes L_c + L_r and the standard error sqrt(se_c^2 + se_r^2). threader: not null. replicates 1: one
+   * replicate, half the rays, for a render that needs no standard error (se_c is then 0). */
   void
   AddCoarseImage(const DRRPointProjection & projection,
                  SplatEnum                  splat,
@@ -120,7 +121,8 @@ public:
                  uint64_t                   seed,
                  MultiThreaderBase *        threader,
                  ProcessObject *            progressFilter,
-                 DRRPointRenderer::Result & result) const;
+                 DRRPointRenderer::Result & result,
+                 unsigned int               replicates = 2) const;
 
   /** The factor `auto` picks for a volume and a view: the largest power of two (2 to 8) at which a coarse voxel is at
    * most half as wide as the footprint of a detector pixel at the volume's centre, and 2 when none is (see

@@ -87,7 +87,8 @@ public:
    * standardError: half the replicates' difference, an unbiased estimate of the variance of their mean (one degree
    * of freedom per pixel; a stratified sample's variance has no unbiased estimate from one replicate, and the spread
    * of its rays overstates it, 2 to 4 times on the test phantoms). cols x rows, columns fastest, on the threads of
-   * threader (not null), reporting progress to progressFilter (may be null). */
+   * threader (not null), reporting progress to progressFilter (may be null). replicates 1: the first replicate alone,
+   * half the rays, for a render that needs no standard error (standardError is then zero). */
   void
   RenderFootprintAverages(const DRRPointProjection & projection,
                           SplatEnum                  splat,
@@ -96,7 +97,8 @@ public:
                           MultiThreaderBase *        threader,
                           ProcessObject *            progressFilter,
                           std::vector<double> &      image,
-                          std::vector<double> &      standardError) const;
+                          std::vector<double> &      standardError,
+                          unsigned int               replicates = 2) const;
 
 private:
   /** Siddon's traversal of the box model from the entry cell to tExit (the cursors of IntegrateSegment()): the

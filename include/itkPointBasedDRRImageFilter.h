@@ -164,6 +164,16 @@ public:
   itkSetClampMacro(ControlVariateRaysPerSide, unsigned int, 1, 16);
   itkGetConstMacro(ControlVariateRaysPerSide, unsigned int);
   ///@}
+
+  ///@{
+  /** Whether the standard-error output is computed (default On). Off, for renders whose standard error nobody reads (a
+   * batch of views): the control variate's coarse image traces one replicate of ray pairs instead of two (half its
+   * rays: the same expectation, a little more variance in the coarse part, none in the points'), and the
+   * standard-error output is zero. The points and their sums are the same either way. */
+  itkSetMacro(ComputeStandardError, bool);
+  itkGetConstMacro(ComputeStandardError, bool);
+  itkBooleanMacro(ComputeStandardError);
+  ///@}
   /** The split of the last render with a control variate (null before one, and after a render without). */
   const DRRControlVariate *
   GetControlVariate() const
@@ -258,6 +268,7 @@ private:
   typename SamplerType::Pointer m_Sampler;
   unsigned int                  m_ControlVariateFactor{ 0 };
   unsigned int                  m_ControlVariateRaysPerSide{ 1 };
+  bool                          m_ComputeStandardError{ true };
   DRRControlVariate::Pointer    m_ControlVariate;
   const DRRAttenuationVolume *  m_ControlVariateVolume{ nullptr };
   ModifiedTimeType              m_ControlVariateVolumeTime{ 0 };

@@ -114,7 +114,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::AddControlVariateImage(cons
                                      settings.Seed,
                                      this->GetMultiThreader(),
                                      this,
-                                     result);
+                                     result,
+                                     m_ComputeStandardError ? 2u : 1u);
   }
 }
 
@@ -267,7 +268,16 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
   m_PointsOnDetector = result.PointsOnDetector;
   m_RenderedTime = this->GetMTime();
   m_RenderedInputTime = this->GetInput()->GetMTime();
-  this->WriteOutputs(result.LineIntegral, &result.StandardError);
+  if (!m_ComputeStandardError)
+  {
+    std::fill(m_WeightedVarianceSum.begin(), m_WeightedVarianceSum.end(), 0.0);
+    std::vector<double> none(result.LineIntegral.size(), 0.0);
+    this->WriteOutputs(result.LineIntegral, &none);
+  }
+  else
+  {
+    this->WriteOutputs(result.LineIntegral, &result.StandardError);
+  }
   this->UpdateProgress(1.0f);
 }
 
@@ -321,6 +331,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
                                                                  : std::to_string(m_ControlVariateFactor))
      << std::endl;
   os << indent << "ControlVariateRaysPerSide: " << m_ControlVariateRaysPerSide << std::endl;
+  os << indent << "ComputeStandardError: " << (m_ComputeStandardError ? "On" : "Off") << std::endl;
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
   os << indent << "PointsOnDetector: " << m_PointsOnDetector << std::endl;

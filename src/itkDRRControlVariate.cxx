@@ -187,7 +187,8 @@ DRRControlVariate::AddCoarseImage(const DRRPointProjection & projection,
                                   uint64_t                   seed,
                                   MultiThreaderBase *        threader,
                                   ProcessObject *            progressFilter,
-                                  DRRPointRenderer::Result & result) const
+                                  DRRPointRenderer::Result & result,
+                                  unsigned int               replicates) const
 {
   if (m_Factor == 0)
   {
@@ -197,7 +198,7 @@ DRRControlVariate::AddCoarseImage(const DRRPointProjection & projection,
   std::vector<double>         standardError;
   const DRRExactRayIntegrator integrator(*m_CoarseVolume, PointBasedDRREnums::ReconstructionKernel::Box, m_Factor);
   integrator.RenderFootprintAverages(
-    projection, splat, raysPerSide, seed, threader, progressFilter, image, standardError);
+    projection, splat, raysPerSide, seed, threader, progressFilter, image, standardError, replicates);
   if (image.size() != result.LineIntegral.size())
   {
     itkExceptionMacro("AddCoarseImage(): the render has " << result.LineIntegral.size() << " pixels, the view "

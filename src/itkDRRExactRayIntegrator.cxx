@@ -351,11 +351,16 @@ DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projec
                                                MultiThreaderBase *        threader,
                                                ProcessObject *            progressFilter,
                                                std::vector<double> &      image,
-                                               std::vector<double> &      standardError) const
+                                               std::vector<double> &      standardError,
+                                               unsigned int               replicates) const
 {
   if (raysPerSide == 0)
   {
     itkGenericExceptionMacro("DRRExactRayIntegrator: the number of rays per pixel side must be at least 1");
+  }
+  if (replicates != 1 && replicates != 2)
+  {
+    itkGenericExceptionMacro("DRRExactRayIntegrator: replicates must be 1 or 2, got " << replicates);
   }
   const unsigned int columns = projection.GetNumberOfColumns();
   const unsigned int rows = projection.GetNumberOfRows();
@@ -373,10 +378,11 @@ DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projec
         DRRPhiloxRandom stream(seed, row, 2);
         for (unsigned int column = 0; column < columns; ++column)
         {
-          double replicate[2];
-          for (double & mean : replicate)
+          double replicate[2] = { 0.0, 0.0 };
+          for (unsigned int r = 0; r < replicates; ++r)
           {
-            double sum = 0.0;
+            double & mean = replicate[r];
+            double   sum = 0.0;
             for (unsigned int sv = 0; sv < raysPerSide; ++sv)
             {
               for (unsigned int su = 0; su < raysPerSide; ++su)
@@ -401,8 +407,9 @@ DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projec
             mean = sum / raysPerReplicate;
           }
           const size_t pixel = static_cast<size_t>(row) * columns + column;
-          image[pixel] = 0.5 * (replicate[0] + replicate[1]);
-          standardError[pixel] = 0.5 * std::abs(replicate[0] - replicate[1]);
+          // The first replicate is the same rays either way (the row's stream is drawn in order).
+          image[pixel] = replicates == 2 ? 0.5 * (replicate[0] + replicate[1]) : replicate[0];
+          standardError[pixel] = replicates == 2 ? 0.5 * std::abs(replicate[0] - replicate[1]) : 0.0;
         }
       },
       progressFilter);

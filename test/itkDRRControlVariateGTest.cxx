@@ -153,6 +153,41 @@ ExpectUnbiasedAgainstSiddon(TFilter * filter, const std::string & what, unsigned
   }
 }
 
+TEST(DRRControlVariate, WithoutStandardErrorTheCoarseImageTracesOneReplicateAndStaysUnbiased)
+{
+  // A volume with structure at every scale: mu varies voxel by voxel, so the coarse image is not exact.
+  auto    volume = MakeMuVolume({ { 9, 7, 6 } }, 0.0f);
+  float * mu = volume->GetBufferPointer();
+  for (size_t v = 0; v < 9 * 7 * 6; ++v)
+  {
+    mu[v] = 0.01f + 0.002f * static_cast<float>((v * 37) % 11);
+  }
+  auto filter = MakeFilter(volume, AlignedParallelGeometry(7, 5, Pt(4, 3, 2.5)), 2);
+  filter->GetGeometry()->SetGantryAngleInDegrees(70.0); // oblique: rays cross the blocks at every fraction
+  filter->SetSeed(3);
+  filter->Update();
+  const auto withError = ToVector(filter->GetOutput());
+  filter->ComputeStandardErrorOff();
+  filter->Update();
+  const auto without = ToVector(filter->GetOutput());
+  for (float se : ToVector(filter->GetStandardErrorOutput()))
+  {
+    EXPECT_EQ(se, 0.0f);
+  }
+  EXPECT_NE(withError, without) << "half the rays must give another coarse image";
+  ExpectUnbiasedAgainstSiddon(filter.GetPointer(), "one replicate of coarse rays");
+
+  // Without a control variate the option changes no bit of the image: the points are the same.
+  filter->SetControlVariateFactor(0);
+  filter->SetSeed(5);
+  filter->ComputeStandardErrorOn();
+  filter->Update();
+  const auto pointsWithError = ToVector(filter->GetOutput());
+  filter->ComputeStandardErrorOff();
+  filter->Update();
+  EXPECT_EQ(pointsWithError, ToVector(filter->GetOutput()));
+}
+
 TEST(DRRControlVariate, OneVoxelAndAFactorLargerThanTheVolumeStayUnbiased)
 {
   auto one = MakeMuVolume({ { 1, 1, 1 } }, 0.05f);

@@ -536,6 +536,8 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
   {
     // One draw serves every view: view k's image is then a function of (seed, its view) alone.
     renderer.Points->SetReusePoints(!options.independentViews);
+    renderer.Points
+      ->ComputeStandardErrorOff(); // a batch writes no standard error: the coarse image traces half the rays
     if (!options.independentViews && options.controlVariate == PointFilterType::AutomaticControlVariateFactor)
     {
       // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
