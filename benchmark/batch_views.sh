@@ -15,19 +15,21 @@ PBDRR=${2:-$(dirname "$0")/../build/apps/pbdrr/pbdrr}
 OUT=${3:-$(mktemp -d)}
 VIEWS=${VIEWS:-360}
 SEPARATE=${SEPARATE:-$VIEWS}
-SETTINGS=${SETTINGS:---control-variate off --samples 2e7}
+SETTINGS=${SETTINGS:---control-variate 8 --samples 2M}
 VIEW=${VIEW:---size 256 256 --spacing 2.4 2.4}
 STEP=$(/usr/bin/python3 -c "print(360.0 / $VIEWS)")
 if [ ! -e "$CT" ]; then
   echo "batch_views.sh: $CT not found (give a CT as the first argument)" >&2
   exit 2
 fi
+rm -rf "$OUT/batch" "$OUT/separate"
 mkdir -p "$OUT/reference" "$OUT/batch" "$OUT/separate"
 sweep="--angles $VIEWS --angle-step $STEP"
 seconds() { /usr/bin/python3 -c "import time; print(time.monotonic())"; }
 
+# The exact references (kept in OUT: a second run with other SETTINGS reuses them).
 # shellcheck disable=SC2086
-"$PBDRR" "$CT" $sweep $VIEW --exact siddon --ss 2 -o "$OUT/reference/v_%04d.mha" -q
+"$PBDRR" "$CT" $sweep $VIEW --exact siddon --ss 2 -o "$OUT/reference/v_%04d.mha" -q --resume
 
 start=$(seconds)
 # shellcheck disable=SC2086
