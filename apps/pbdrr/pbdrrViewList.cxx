@@ -156,6 +156,12 @@ ReadViewsFile(const std::string & path)
   {
     throw UsageError("--views " + path + ": cannot open the file");
   }
+  return ReadViewsFromStream(file, path);
+}
+
+std::vector<ViewSpec>
+ReadViewsFromStream(std::istream & file, const std::string & path)
+{
   std::map<std::string, size_t> columns;
   size_t                        columnCount = 0;
   std::vector<ViewSpec>         views;

@@ -23,6 +23,7 @@
 #include "itkDRRProjectionGeometry.h"
 
 #include <array>
+#include <istream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,6 +60,10 @@ MakeSweep(unsigned count, double startDegrees, double stepDegrees);
  * cell, a number that is not finite, no view. */
 std::vector<ViewSpec>
 ReadViewsFile(const std::string & path);
+
+/** ReadViewsFile() of a stream; messages name the file as name. */
+std::vector<ViewSpec>
+ReadViewsFromStream(std::istream & stream, const std::string & name);
 
 /** The columns a views file may have, in the order WriteViewsFile() writes them. */
 const std::vector<std::string> &

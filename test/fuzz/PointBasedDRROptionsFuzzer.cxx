@@ -19,8 +19,8 @@
 // libFuzzer target: the bytes are a pbdrr command line (arguments separated by NUL or white space), given to
 // pbdrr::ParseCommandLine() (docs/fuzzing.md). Only pbdrr::UsageError and itk::ExceptionObject may escape; any other
 // exception, a crash or a sanitizer report is a finding (abort). An accepted command line must also hold what the
-// parser promises: an input and an output (unless --help, --version or --list-series ROOT), finite numbers, whole
-// sample counts in [1, 2^40], lengths within [1e-6, 1e7] mm.
+// parser promises: an input and an output (unless --help, --version or --list-series ROOT; neither with --manifest),
+// finite numbers, whole sample counts in [1, 2^40], lengths within [1e-6, 1e7] mm, a shard K below N.
 
 #include "pbdrrOptions.h"
 #include "itkMacro.h"
@@ -117,11 +117,18 @@ CheckAccepted(const pbdrr::Options & o, const std::vector<std::string> & argumen
       Finding(std::string("ParseCommandLine() accepted a command line whose ") + what, arguments);
     }
   };
-  if (!o.help && !o.version && o.listSeries.empty())
+  if (!o.help && !o.version && o.listSeries.empty() && o.manifest.empty())
   {
     check(!o.input.empty() && !o.output.empty(), "input or output is empty");
     check(!(o.energyKeV && o.muWater), "energy and mu-water are both set");
   }
+  if (!o.manifest.empty() && !o.help && !o.version && o.listSeries.empty())
+  {
+    check(o.input.empty() && o.output.empty(), "a manifest run has an input or an output of its own");
+  }
+  check(!o.shard || (*o.shard)[0] < (*o.shard)[1], "shard K is not below N");
+  check(!o.angles || (*o.angles >= 1 && *o.angles <= 1000000), "angles is outside [1, 10^6]");
+  check(Finite(o.angleStepDegrees), "the angle step is not finite");
   check(o.samples >= 1 && o.samples <= (uint64_t{ 1 } << 40), "sample count is outside [1, 2^40]");
   check(Length(o.sad) && Length(o.sid), "SAD or SID is outside [1e-6, 1e7] mm");
   check(Finite(o.gantryDegrees) && Finite(o.energyKeV) && Finite(o.muWater) && Finite(o.airThreshold),
