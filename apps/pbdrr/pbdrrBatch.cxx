@@ -316,7 +316,12 @@ CheckViews(const Options & options, const BatchPlan & plan)
     }
     try
     {
-      MakeGeometry(ApplyView(options, plan.Views[k]), nullptr);
+      const auto geometry = MakeGeometry(ApplyView(options, plan.Views[k]), nullptr);
+      if (options.stack && geometry->GetProjection() == itk::PointBasedDRREnums::Projection::Localizer)
+      {
+        throw UsageError("a stack keeps its views in RTK's XML, which has no localizer beam: give numbered files "
+                         "(-o view_%04d.mha), each with its view beside it");
+      }
     }
     catch (const itk::ExceptionObject & e)
     {
@@ -335,9 +340,14 @@ ViewGeometry(const Options & options, const ViewSpec & view, const VolumeType * 
   return view.Whole ? view.Whole : CanonicalView(options, MakeGeometry(ApplyView(options, view), volume));
 }
 
-/** --write-rtk-geometry: every view of the batch in RTK's XML (each shard writes the same file, whole). */
+/** Every view of the batch in RTK's XML at path (each shard writes the same file, whole): --write-rtk-geometry's file,
+ * and the views of a stack beside it. flag names the option in messages. */
 void
-WriteRTKGeometry(const Options & options, const BatchPlan & plan, const VolumeType * volume)
+WriteRTKGeometry(const Options &     options,
+                 const BatchPlan &   plan,
+                 const VolumeType *  volume,
+                 const std::string & path,
+                 const std::string & flag)
 {
   itk::DRRRTKGeometryFileIO::ConstGeometryListType geometries;
   for (const ViewSpec & view : plan.Views)
@@ -350,16 +360,23 @@ WriteRTKGeometry(const Options & options, const BatchPlan & plan, const VolumeTy
   const auto io = MakeRTKGeometryIO(options, geometries.front()->GetColumnsMirrored());
   try
   {
-    WriteAtomically(options.writeRtkGeometry, [&](const std::string & temporary) {
+    WriteAtomically(path, [&](const std::string & temporary) {
       io->SetFileName(temporary);
       io->Write(geometries);
     });
   }
   catch (const itk::ExceptionObject & e)
   {
-    throw std::runtime_error("--write-rtk-geometry " + options.writeRtkGeometry + ": " +
-                             CleanMessage(e.GetDescription()));
+    throw std::runtime_error(flag + " " + path + ": " + CleanMessage(e.GetDescription()));
   }
+}
+
+/** Where a stack's views go: its stem + ".geometry.xml" (RTK's XML). */
+std::string
+StackGeometryPath(const std::string & stack)
+{
+  const std::string text = GeometryPathBeside(stack);
+  return text.substr(0, text.size() - 4) + ".xml";
 }
 
 /** The stack: one slice per view, the detector's pixel pitch in plane, 1 between slices (as RTK stores projections). */
@@ -516,39 +533,95 @@ BatchProgress::Finish()
   m_Finished = true;
 }
 
+namespace
+{
+/** The renderer of a batch: the options' own, with the points kept for every view (unless --independent-views) and no
+ * standard error (nobody reads it: the control variate's coarse image traces half the rays). */
+Renderer
+MakeBatchRenderer(const Options & options, const BatchPlan & plan, const VolumeType * volume)
+{
+  const Renderer renderer = MakeRenderer(options, volume);
+  if (!renderer.Points)
+  {
+    return renderer;
+  }
+  // One draw serves every view: view k's image is then a function of (seed, its view) alone.
+  renderer.Points->SetReusePoints(!options.independentViews);
+  renderer.Points->ComputeStandardErrorOff();
+  if (!options.independentViews && options.controlVariate == PointFilterType::AutomaticControlVariateFactor)
+  {
+    // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
+    // renders, so that the split, and so every view's image, is the same in every run and shard.
+    renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
+    renderer.Points->PrepareSampling();
+  }
+  return renderer;
+}
+
+/** Copies view s's image into the stack (made at the first view), in the output mode. */
+void
+AddToStack(VolumeType::Pointer &              stack,
+           const Options &                    options,
+           const BatchPlan &                  plan,
+           size_t                             s,
+           const ProjectionType *             image,
+           const itk::DRRProjectionGeometry * geometry)
+{
+  if (!stack)
+  {
+    stack = MakeStack(geometry, plan.Selected.size());
+  }
+  const size_t pixels = image->GetBufferedRegion().GetNumberOfPixels();
+  if (pixels * plan.Selected.size() != stack->GetBufferedRegion().GetNumberOfPixels())
+  {
+    const uint64_t k = plan.Selected[s];
+    throw UsageError("--stack needs one detector size for every view; " +
+                     DescribeView(plan.Views[k], k, plan.ViewsFrom) + " has another");
+  }
+  const bool transmission = OutputMode(options) == "transmission";
+  float *    slice = stack->GetBufferPointer() + s * pixels;
+  for (size_t p = 0; p < pixels; ++p)
+  {
+    const float value = image->GetBufferPointer()[p];
+    slice[p] = transmission ? std::exp(-value) : value;
+  }
+}
+
+/** pbdrr -v's account of a batch: the load, the first view (with the points' draw), the others, the split. */
+void
+PrintBatchTimes(double load, double first, double rest, size_t views, const Renderer & renderer)
+{
+  const size_t others = views - 1;
+  std::cerr << "pbdrr: time: load " << load << " s; the first view (with the points' draw) " << first << " s; "
+            << others << " more views " << rest << " s"
+            << (others ? ", " + std::to_string(1000.0 * rest / static_cast<double>(others)) + " ms each" : "")
+            << std::endl;
+  if (renderer.Points)
+  {
+    if (const itk::DRRControlVariate * split = renderer.Points->GetControlVariate())
+    {
+      std::cerr << "pbdrr: control variate F " << split->GetFactor() << ", M_r / M "
+                << split->GetResidualMass() / split->GetTotalMass() << std::endl;
+    }
+  }
+}
+} // namespace
+
 void
 RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
 {
-  const bool         chatty = !options.quiet;
   const double       loadStart = Now();
   const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, {});
   const double       loadSeconds = Now() - loadStart;
-  if (chatty)
+  for (size_t n = 0; !options.quiet && n < loaded.Notes.size(); ++n)
   {
-    for (const auto & note : loaded.Notes)
-    {
-      std::cerr << "pbdrr: " << note << std::endl;
-    }
+    std::cerr << "pbdrr: " << loaded.Notes[n] << std::endl;
   }
   const VolumeType * volume = loaded.Image;
-  const Renderer     renderer = MakeRenderer(options, volume);
-  if (renderer.Points)
-  {
-    // One draw serves every view: view k's image is then a function of (seed, its view) alone.
-    renderer.Points->SetReusePoints(!options.independentViews);
-    renderer.Points
-      ->ComputeStandardErrorOff(); // a batch writes no standard error: the coarse image traces half the rays
-    if (!options.independentViews && options.controlVariate == PointFilterType::AutomaticControlVariateFactor)
-    {
-      // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
-      // renders, so that the split, and so every view's image, is the same in every run and shard.
-      renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
-      renderer.Points->PrepareSampling();
-    }
-  }
+  const Renderer     renderer = MakeBatchRenderer(options, plan, volume);
   if (!options.writeRtkGeometry.empty())
   {
-    WriteRTKGeometry(options, plan, volume);
+    WriteRTKGeometry(options, plan, volume, options.writeRtkGeometry, "--write-rtk-geometry");
   }
   const double             renderStart = Now();
   double                   firstViewSeconds = 0.0;
@@ -566,60 +639,31 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
       renderer.Points->SetSeed(ViewSeed(options.seed, k));
     }
     renderer.Filter->Update();
-    const ProjectionType * image = renderer.Filter->GetOutput();
     if (options.stack)
     {
-      if (!stack)
-      {
-        stack = MakeStack(geometry, plan.Selected.size());
-      }
-      const size_t pixels = image->GetBufferedRegion().GetNumberOfPixels();
-      if (pixels * plan.Selected.size() != stack->GetBufferedRegion().GetNumberOfPixels())
-      {
-        throw UsageError("--stack needs one detector size for every view; " + DescribeView(view, k, plan.ViewsFrom) +
-                         " has another");
-      }
-      const bool transmission = OutputMode(options) == "transmission";
-      float *    slice = stack->GetBufferPointer() + s * pixels;
-      for (size_t p = 0; p < pixels; ++p)
-      {
-        const float value = image->GetBufferPointer()[p];
-        slice[p] = transmission ? std::exp(-value) : value;
-      }
+      AddToStack(stack, options, plan, s, renderer.Filter->GetOutput(), geometry);
     }
     else
     {
       Options viewOptions = options;
       viewOptions.output = plan.Outputs[k];
       WriteGeometryBeside(plan.Outputs[k], geometry); // before the image: --resume counts a view done by its image
-      WriteOutputs(viewOptions, image, nullptr, notes);
+      WriteOutputs(viewOptions, renderer.Filter->GetOutput(), nullptr, notes);
     }
     progress.ViewDone();
-    if (s == 0)
-    {
-      firstViewSeconds = Now() - renderStart;
-    }
+    firstViewSeconds = s == 0 ? Now() - renderStart : firstViewSeconds;
   }
   if (stack)
   {
+    // The stack's views beside it, as RTK keeps a projection stack's geometry: before the stack, so that a stack
+    // found on disk always has its views.
+    WriteRTKGeometry(options, plan, volume, StackGeometryPath(options.output), "--stack's views");
     WriteAtomically(options.output, [&](const std::string & temporary) { itk::WriteImage(stack, temporary); });
   }
   if (options.verbose)
   {
-    const double rest = Now() - renderStart - firstViewSeconds;
-    const size_t others = plan.Selected.size() - 1;
-    std::cerr << "pbdrr: time: load " << loadSeconds << " s; the first view (with the points' draw) "
-              << firstViewSeconds << " s; " << others << " more views " << rest << " s"
-              << (others ? ", " + std::to_string(1000.0 * rest / static_cast<double>(others)) + " ms each" : "")
-              << std::endl;
-    if (renderer.Points)
-    {
-      if (const itk::DRRControlVariate * split = renderer.Points->GetControlVariate())
-      {
-        std::cerr << "pbdrr: control variate F " << split->GetFactor() << ", M_r / M "
-                  << split->GetResidualMass() / split->GetTotalMass() << std::endl;
-      }
-    }
+    PrintBatchTimes(
+      loadSeconds, firstViewSeconds, Now() - renderStart - firstViewSeconds, plan.Selected.size(), renderer);
   }
 }
 

@@ -631,7 +631,8 @@ depends only on (--seed, k), whichever run, shard or thread count renders it:
                          RTK XML) or angles [angle_step] [gantry]; paths relative to the manifest; no INPUT, no -o
   -o PATTERN             the views' files: a counter %d or %04d is the view's number (view_%04d.mha); each
                          image gets its view beside it (.geometry.txt: the keys and the 3 x 4 matrix)
-  --stack                one 3D image instead, a slice per view (as RTK stores projections)
+  --stack                one 3D image instead, a slice per view (as RTK stores projections), its views beside
+                         it in RTK's XML (OUTPUT without extension + .geometry.xml)
   --shard K/N            render only the views k with k mod N = K (a manifest counts its views across volumes)
   --resume               skip the views whose image and view are written (files are written under a temporary
                          name and renamed: a killed run leaves no half-written file)

@@ -158,6 +158,11 @@ endif()
 
 # A stack: one 3D image of the views, slice k the sweep's view k (the pixels after the header, 16 x 12 floats each).
 run(stack --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/stack.mha --stack)
+file(STRINGS ${WORK}/stack.geometry.xml projections REGEX "<Projection>")
+list(LENGTH projections projection_count)
+if(NOT projection_count EQUAL views)
+  message(FATAL_ERROR "the stack's views beside it (stack.geometry.xml) hold ${projection_count} projections, not ${views}")
+endif()
 file(STRINGS ${WORK}/stack.mha dimensions REGEX "^DimSize")
 if(NOT dimensions STREQUAL "DimSize = 16 12 6")
   message(FATAL_ERROR "the stack is ${dimensions}, not 16 x 12 x 6")
