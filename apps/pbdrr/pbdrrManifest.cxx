@@ -71,20 +71,7 @@ ReadManifest(const std::string & path, const Options & commandLine)
     const std::vector<std::string> cells = SplitCsvCells(content);
     if (columns.empty())
     {
-      for (size_t c = 0; c < cells.size(); ++c)
-      {
-        const std::string name = Lowercase(cells[c]);
-        const auto &      known = ManifestColumns();
-        if (std::find(known.begin(), known.end(), name) == known.end())
-        {
-          throw UsageError(where + ": unknown column '" + cells[c] +
-                           "' (the header names the columns: " + JoinWords(known, ", ") + ")");
-        }
-        if (!columns.emplace(name, c).second)
-        {
-          throw UsageError(where + ": the column " + name + " is named twice");
-        }
-      }
+      columns = ReadCsvHeader(cells, ManifestColumns(), where);
       for (const char * required : { "volume", "output" })
       {
         if (!columns.count(required))

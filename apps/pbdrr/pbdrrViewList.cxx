@@ -70,6 +70,26 @@ SplitCsvCells(const std::string & line)
   return cells;
 }
 
+std::map<std::string, size_t>
+ReadCsvHeader(const std::vector<std::string> & cells, const std::vector<std::string> & known, const std::string & where)
+{
+  std::map<std::string, size_t> columns;
+  for (size_t c = 0; c < cells.size(); ++c)
+  {
+    const std::string name = Lowercase(cells[c]);
+    if (std::find(known.begin(), known.end(), name) == known.end())
+    {
+      throw UsageError(where + ": unknown column '" + cells[c] +
+                       "' (the header names the columns: " + JoinWords(known, ", ") + ")");
+    }
+    if (!columns.emplace(name, c).second)
+    {
+      throw UsageError(where + ": the column " + name + " is named twice");
+    }
+  }
+  return columns;
+}
+
 namespace
 {
 /** The column groups given whole: a vector is its three (or two) columns, or none of them. */
@@ -182,20 +202,7 @@ ReadViewsFromStream(std::istream & file, const std::string & path)
     const std::vector<std::string> cells = SplitCsvCells(content);
     if (columns.empty())
     {
-      for (size_t c = 0; c < cells.size(); ++c)
-      {
-        const std::string name = Lowercase(cells[c]);
-        const auto &      known = ViewsFileColumns();
-        if (std::find(known.begin(), known.end(), name) == known.end())
-        {
-          throw UsageError(where + ": unknown column '" + cells[c] +
-                           "' (the header names the columns: " + JoinWords(known, ", ") + ")");
-        }
-        if (!columns.emplace(name, c).second)
-        {
-          throw UsageError(where + ": the column " + name + " is named twice");
-        }
-      }
+      columns = ReadCsvHeader(cells, ViewsFileColumns(), where);
       for (const auto & group : ColumnGroups())
       {
         const size_t given =

@@ -24,6 +24,7 @@
 
 #include <array>
 #include <istream>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -72,6 +73,13 @@ ViewsFileColumns();
 /** The cells of a CSV line (split at commas, spaces around each trimmed; no quoting). */
 std::vector<std::string>
 SplitCsvCells(const std::string & line);
+
+/** The columns a CSV header names (lower case) and their positions; throws UsageError (at where) for a name not in
+ * known or named twice. */
+std::map<std::string, size_t>
+ReadCsvHeader(const std::vector<std::string> & cells,
+              const std::vector<std::string> & known,
+              const std::string &              where);
 
 /** text without the spaces, tabs and carriage returns around it. */
 std::string
