@@ -58,17 +58,7 @@ ReadManifest(const std::string & path, const Options & commandLine)
   const std::string             folder = DirectoryOf(path);
   std::map<std::string, size_t> columns;
   std::vector<ManifestEntry>    entries;
-  size_t                        lineNumber = 0;
-  for (std::string line; std::getline(file, line);)
-  {
-    ++lineNumber;
-    const std::string content = TrimSpaces(line);
-    const std::string where = path + " line " + std::to_string(lineNumber);
-    if (content.empty() || content[0] == '#')
-    {
-      continue;
-    }
-    const std::vector<std::string> cells = SplitCsvCells(content);
+  ForEachCsvRow(file, path, [&](size_t lineNumber, const std::string & where, const std::vector<std::string> & cells) {
     if (columns.empty())
     {
       columns = ReadCsvHeader(cells, ManifestColumns(), where);
@@ -79,7 +69,7 @@ ReadManifest(const std::string & path, const Options & commandLine)
           throw UsageError(where + ": no " + required + " column (a manifest names each volume and its output)");
         }
       }
-      continue;
+      return;
     }
     if (cells.size() != columns.size())
     {
@@ -133,7 +123,7 @@ ReadManifest(const std::string & path, const Options & commandLine)
       }
     }
     entries.push_back(entry);
-  }
+  });
   if (columns.empty() || entries.empty())
   {
     throw UsageError("--manifest " + path + ": no volume (a header line naming the columns, then one volume per line)");

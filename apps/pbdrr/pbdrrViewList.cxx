@@ -70,6 +70,33 @@ SplitCsvCells(const std::string & line)
   return cells;
 }
 
+void
+ForEachCsvRow(std::istream &                                                                             stream,
+              const std::string &                                                                        name,
+              const std::function<void(size_t, const std::string &, const std::vector<std::string> &)> & row)
+{
+  size_t lineNumber = 0;
+  for (std::string line; std::getline(stream, line);)
+  {
+    ++lineNumber;
+    const std::string content = TrimSpaces(line);
+    const std::string where = name + " line " + std::to_string(lineNumber);
+    if (content.empty() || content[0] == '#')
+    {
+      continue;
+    }
+    if (content.find('\0') != std::string::npos)
+    {
+      throw UsageError(where + ": not text (the file is CSV)");
+    }
+    row(lineNumber, where, SplitCsvCells(content));
+  }
+  if (stream.bad())
+  {
+    throw UsageError(name + ": cannot read the file");
+  }
+}
+
 std::map<std::string, size_t>
 ReadCsvHeader(const std::vector<std::string> & cells, const std::vector<std::string> & known, const std::string & where)
 {
@@ -185,21 +212,7 @@ ReadViewsFromStream(std::istream & file, const std::string & path)
   std::map<std::string, size_t> columns;
   size_t                        columnCount = 0;
   std::vector<ViewSpec>         views;
-  size_t                        lineNumber = 0;
-  for (std::string line; std::getline(file, line);)
-  {
-    ++lineNumber;
-    const std::string content = TrimSpaces(line);
-    const std::string where = path + " line " + std::to_string(lineNumber);
-    if (content.empty() || content[0] == '#')
-    {
-      continue;
-    }
-    if (content.find('\0') != std::string::npos)
-    {
-      throw UsageError(where + ": not text (a views file is CSV)");
-    }
-    const std::vector<std::string> cells = SplitCsvCells(content);
+  ForEachCsvRow(file, path, [&](size_t lineNumber, const std::string & where, const std::vector<std::string> & cells) {
     if (columns.empty())
     {
       columns = ReadCsvHeader(cells, ViewsFileColumns(), where);
@@ -213,7 +226,7 @@ ReadViewsFromStream(std::istream & file, const std::string & path)
         }
       }
       columnCount = cells.size();
-      continue;
+      return;
     }
     if (cells.size() != columnCount)
     {
@@ -243,11 +256,7 @@ ReadViewsFromStream(std::istream & file, const std::string & path)
       throw UsageError(where + ": output '" + view.Output + "' must be a file name (it goes in the -o folder)");
     }
     views.push_back(view);
-  }
-  if (file.bad())
-  {
-    throw UsageError("--views " + path + ": cannot read the file");
-  }
+  });
   if (columns.empty())
   {
     throw UsageError("--views " + path + ": empty (a header line naming the columns, then one view per line)");

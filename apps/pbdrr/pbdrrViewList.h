@@ -23,6 +23,7 @@
 #include "itkDRRProjectionGeometry.h"
 
 #include <array>
+#include <functional>
 #include <istream>
 #include <map>
 #include <optional>
@@ -73,6 +74,13 @@ ViewsFileColumns();
 /** The cells of a CSV line (split at commas, spaces around each trimmed; no quoting). */
 std::vector<std::string>
 SplitCsvCells(const std::string & line);
+
+/** Calls row(line number, "NAME line N", cells) for each line of a CSV stream but blank lines and # comments. Throws
+ * UsageError for a line that is not text (a NUL) or a stream that cannot be read. */
+void
+ForEachCsvRow(std::istream &                                                                             stream,
+              const std::string &                                                                        name,
+              const std::function<void(size_t, const std::string &, const std::vector<std::string> &)> & row);
 
 /** The columns a CSV header names (lower case) and their positions; throws UsageError (at where) for a name not in
  * known or named twice. */
