@@ -216,7 +216,11 @@ ReadViews(const Options & options, std::string & from)
   return views;
 }
 
-/** Each view's output path: its own name in the -o folder, the pattern's, or the stack. */
+/** The name of a view's file in an output folder (-o out/) when the views file names none. */
+const char * const DefaultViewName = "view_%04d.mha";
+
+/** Each view's output path: its own name in the -o folder (view_%04d.mha if it has none), the pattern's, or the
+ * stack. */
 std::vector<std::string>
 ResolveOutputs(const Options & options, const std::vector<ViewSpec> & views)
 {
@@ -242,11 +246,9 @@ ResolveOutputs(const Options & options, const std::vector<ViewSpec> & views)
     }
     if (folderOnly)
     {
-      throw UsageError("-o " + options.output + " is a folder, and " + DescribeView(views[k], k, options.viewsFile) +
-                       " has no output name: give a pattern, e.g. -o " + options.output +
-                       (EndsWith(options.output, "/") ? "" : "/") + "view_%04d.mha");
+      outputs[k] = OutputPattern((folder.empty() ? "/" : folder + "/") + DefaultViewName).Format(k);
     }
-    if (pattern.HasCounter())
+    else if (pattern.HasCounter())
     {
       outputs[k] = pattern.Format(k);
     }

@@ -33,10 +33,10 @@ struct ManifestEntry
 };
 
 /** Reads a manifest: CSV with a header, one volume per line (# comments and blank lines skipped). Columns: volume and
- * output (an output pattern, as -o), and the views as a views file or RTK XML (views; .xml: RTK's) or a sweep (angles,
- * with angle_step and gantry optional). Relative paths are taken from the manifest's folder. The other options come
- * from the command line. Throws UsageError naming the line for an unknown column, a missing cell, a row without views
- * or with two kinds. */
+ * output (a pattern or a folder, as -o), and the views as a views file or RTK XML (views; .xml: RTK's) or a sweep
+ * (angles, with angle_step and gantry optional). Relative paths are taken from the manifest's folder. The other options
+ * come from the command line. Throws UsageError naming the line for an unknown column, a missing cell, a row without
+ * views or with two kinds. */
 std::vector<ManifestEntry>
 ReadManifest(const std::string & path, const Options & commandLine);
 

@@ -629,10 +629,12 @@ view's; for speed, --control-variate 16 --samples 2M renders a 256 x 256 chest v
                          --spacing for the pixels, centred as RTK's tools centre projections
   --write-rtk-geometry FILE
                          write the batch's views as RTK's XML
-  --manifest FILE        many volumes: CSV with a header, columns volume, output, and views (a views file or an
-                         RTK XML) or angles [angle_step] [gantry]; paths relative to the manifest; no INPUT, no -o
-  -o PATTERN             the views' files: a counter %d or %04d is the view's number (view_%04d.mha); each
-                         image gets its view beside it (.geometry.txt: the keys and the 3 x 4 matrix)
+  --manifest FILE        many volumes: CSV with a header, columns volume, output (a pattern or a folder), and
+                         views (a views file or an RTK XML) or angles [angle_step] [gantry]; paths relative to
+                         the manifest; no INPUT, no -o
+  -o PATTERN             the views' files: a counter %d or %04d is the view's number (view_%04d.mha); a folder
+                         (out/) holds view_%04d.mha; each image gets its view beside it (.geometry.txt: the keys
+                         and the 3 x 4 matrix)
   --stack                one 3D image instead, a slice per view (as RTK stores projections), its views beside
                          it in RTK's XML (OUTPUT without extension + .geometry.xml)
   --shard K/N            render only the views k with k mod N = K (a manifest counts its views across volumes)

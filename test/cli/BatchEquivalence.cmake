@@ -61,6 +61,11 @@ foreach(k RANGE ${last})
   same(${WORK}/sweep/v_${k}.mha ${image} "--views view ${k} against the --angles sweep")
 endforeach()
 
+# An output folder: the views' files are view_%04d.mha in it.
+file(MAKE_DIRECTORY ${WORK}/folder)
+run(folder --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/folder/)
+same(${WORK}/sweep/v_3.mha ${WORK}/folder/view_0003.mha "-o FOLDER/'s view 3")
+
 # One view by its index, and the shards, on 1 or 2 threads: the sweep's files.
 foreach(k 0 4)
   run(one --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/one_${k}.mha --view-index ${k} --threads 1)
