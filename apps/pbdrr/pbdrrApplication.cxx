@@ -26,6 +26,7 @@
 #include "itkCommand.h"
 #include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
+#include "itkDRRQuantumNoiseImageFilter.h"
 #include "itkDRRProjectionMatrixFileIO.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRROutputConversion.h"
@@ -656,6 +657,21 @@ MakeRenderer(const Options & options, const VolumeType * volume)
   return renderer;
 }
 
+ProjectionType::ConstPointer
+AddQuantumNoise(const Options & options, const ProjectionType * image, uint64_t seed)
+{
+  if (!options.photons)
+  {
+    return image;
+  }
+  auto noise = itk::DRRQuantumNoiseImageFilter<ProjectionType>::New();
+  noise->SetInput(image);
+  noise->SetNumberOfPhotons(*options.photons);
+  noise->SetSeed(seed);
+  noise->Update();
+  return noise->GetOutput();
+}
+
 std::string
 VersionText()
 {
@@ -719,6 +735,11 @@ Run(const Options & options)
     if (options.exact)
     {
       throw UsageError("--stderr: an exact render has no statistical error");
+    }
+    if (options.photons)
+    {
+      throw UsageError("--stderr is the point estimate's error; with --photons the image has quantum noise on top: "
+                       "give one of them");
     }
   }
   struct stat inputStatus;
@@ -801,8 +822,9 @@ Run(const Options & options)
   }
 
   start = Clock::now();
+  const ProjectionType::ConstPointer counted = AddQuantumNoise(options, filter->GetOutput(), options.seed);
   WriteOutputs(options,
-               filter->GetOutput(),
+               counted,
                pointBased && !options.standardErrorOutput.empty() ? pointBased->GetStandardErrorOutput() : nullptr,
                notes);
   const std::string geometryPath = WriteGeometryBeside(options.output, geometry);

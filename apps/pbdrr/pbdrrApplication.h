@@ -56,6 +56,10 @@ MakeGeometry(const Options & options, const VolumeType * volume);
 itk::DRRTransferFunction::Pointer
 MakeTransferFunction(const Options & options);
 
+/** The image with quantum noise (--photons, DRRQuantumNoiseImageFilter seeded by seed), or image itself without. */
+ProjectionType::ConstPointer
+AddQuantumNoise(const Options & options, const ProjectionType * image, uint64_t seed);
+
 /** The output kind an extension stands for: "png" (gray levels) or "float". Throws UsageError for others. */
 std::string
 OutputKind(const std::string & path);

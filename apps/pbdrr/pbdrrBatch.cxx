@@ -641,16 +641,19 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
       renderer.Points->SetSeed(ViewSeed(options.seed, k));
     }
     renderer.Filter->Update();
+    // Quantum noise independent from view to view, and a function of (seed, k) alone.
+    const ProjectionType::ConstPointer image =
+      AddQuantumNoise(options, renderer.Filter->GetOutput(), ViewSeed(options.seed, k));
     if (options.stack)
     {
-      AddToStack(stack, options, plan, s, renderer.Filter->GetOutput(), geometry);
+      AddToStack(stack, options, plan, s, image, geometry);
     }
     else
     {
       Options viewOptions = options;
       viewOptions.output = plan.Outputs[k];
       WriteGeometryBeside(plan.Outputs[k], geometry); // before the image: --resume counts a view done by its image
-      WriteOutputs(viewOptions, renderer.Filter->GetOutput(), nullptr, notes);
+      WriteOutputs(viewOptions, image, nullptr, notes);
     }
     progress.ViewDone();
     firstViewSeconds = s == 0 ? Now() - renderStart : firstViewSeconds;

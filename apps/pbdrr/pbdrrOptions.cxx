@@ -354,6 +354,16 @@ ParseCommandLine(const std::vector<std::string> & arguments)
           options.outputMode = OneOf(v[0], "--output-mode", { "line-integral", "transmission", "gray8", "gray16" });
         } } },
     { "--window", { 2, [&](const auto & v) { options.window = Numbers<2>(v, "--window"); } } },
+    { "--photons",
+      { 1,
+        [&](const auto & v) {
+          const double              photons = ParseNumber(v[0], "--photons");
+          if (!(photons > 0.0 && photons <= 1e12))
+          {
+            throw UsageError("--photons expects photons per pixel in (0, 1e12], got '" + v[0] + "'");
+          }
+          options.photons = photons;
+        } } },
     { "--exact", { 1, [&](const auto & v) { options.exact = ExactReferenceKernel(v[0]); } } },
     { "--ss", { 1, [&](const auto & v) { options.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } } },
     { "--angles", { 1, [&](const auto & v) { options.angles = WholeNumber(v[0], "--angles", 1, 1000000); } } },
@@ -614,6 +624,8 @@ Physics:
   --air-threshold HU     voxels below this are air (never sampled)
   --output-mode line-integral|transmission|gray8|gray16
   --window LEVEL WIDTH   gray window in line-integral units (default: percentiles)
+  --photons I0           quantum noise: each pixel counts Poisson(I0 exp(-L)) photons and reads -ln(N / I0) (no
+                         photon: half a photon); I0 per pixel with nothing in the beam; counts seeded by --seed
 
 Batches: many views in one run, the volume loaded once and the points drawn once for every view; view k's image
 depends only on (--seed, k), whichever run, shard or thread count renders it. The sampling options are a single

@@ -81,6 +81,8 @@ struct Options
   std::optional<double>                airThreshold;
   std::string                          outputMode; // empty: from the output extension
   std::optional<std::array<double, 2>> window;     // level, width (line-integral units)
+  /** --photons I0: quantum noise, I0 photons per pixel with nothing in the beam (DRRQuantumNoiseImageFilter). */
+  std::optional<double> photons;
 
   /** --exact: the kernel whose model the exact projector renders (named by the kernel's ExactReference). */
   std::optional<itk::PointBasedDRREnums::ReconstructionKernel> exact;

@@ -129,6 +129,7 @@ CheckAccepted(const pbdrr::Options & o, const std::vector<std::string> & argumen
   check(!o.shard || (*o.shard)[0] < (*o.shard)[1], "shard K is not below N");
   check(!o.angles || (*o.angles >= 1 && *o.angles <= 1000000), "angles is outside [1, 10^6]");
   check(Finite(o.angleStepDegrees), "the angle step is not finite");
+  check(!o.photons || (*o.photons > 0.0 && *o.photons <= 1e12), "photons per pixel are outside (0, 1e12]");
   check(o.samples >= 1 && o.samples <= (uint64_t{ 1 } << 40), "sample count is outside [1, 2^40]");
   check(Length(o.sad) && Length(o.sid), "SAD or SID is outside [1e-6, 1e7] mm");
   check(Finite(o.gantryDegrees) && Finite(o.energyKeV) && Finite(o.muWater) && Finite(o.airThreshold),

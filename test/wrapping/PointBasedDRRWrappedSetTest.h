@@ -35,6 +35,7 @@
 #include "itkDRRPaperHybridSampler.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRProjectionMatrixFileIO.h"
+#include "itkDRRQuantumNoiseImageFilter.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkIdentityTransform.h"
@@ -126,6 +127,14 @@ struct IsInterpolator : std::false_type
 template <typename T>
 struct IsInterpolator<T, std::void_t<typename T::InputImageType, typename T::CoordRepType>>
   : std::is_base_of<itk::InterpolateImageFunction<typename T::InputImageType, typename T::CoordRepType>, T>
+{};
+
+/** The quantum-noise filter: an image filter of line integrals, with no geometry. */
+template <typename T>
+struct IsQuantumNoise : std::false_type
+{};
+template <typename TImage>
+struct IsQuantumNoise<itk::DRRQuantumNoiseImageFilter<TImage>> : std::true_type
 {};
 
 template <typename T>
@@ -227,6 +236,37 @@ ExpectProjection(const TImage * image, const std::string & what, bool positive)
   {
     EXPECT_GT(sum, 0.0) << what;
   }
+}
+
+/** Runs the quantum-noise filter once on line integrals of 1: finite noisy line integrals, its settings printed. */
+template <typename T>
+void
+RunQuantumNoise(const std::string & className)
+{
+  using ImageType = typename T::ImageType;
+  auto                         image = ImageType::New();
+  typename ImageType::SizeType size;
+  size.Fill(8);
+  image->SetRegions(size);
+  image->Allocate();
+  image->FillBuffer(1.0f);
+  auto filter = T::New();
+  filter->SetInput(image);
+  filter->SetNumberOfPhotons(1000.0);
+  filter->SetSeed(3);
+  EXPECT_NO_THROW(filter->Update()) << className;
+  double sum = 0.0;
+  for (itk::ImageRegionConstIterator<ImageType> it(filter->GetOutput(), filter->GetOutput()->GetBufferedRegion());
+       !it.IsAtEnd();
+       ++it)
+  {
+    EXPECT_TRUE(std::isfinite(it.Get())) << className;
+    sum += it.Get();
+  }
+  EXPECT_NEAR(sum / static_cast<double>(image->GetBufferedRegion().GetNumberOfPixels()), 1.0, 0.1) << className;
+  std::ostringstream printed;
+  filter->Print(printed);
+  EXPECT_NE(printed.str().find("NumberOfPhotons"), std::string::npos) << className << " Print():\n" << printed.str();
 }
 
 /** Runs an image filter once, through the wrapped class's own interface (ImageToImageFilter's for a base class). */
@@ -393,6 +433,10 @@ Exercise(const std::string & className)
   if constexpr (IsInterpolator<T>::value)
   {
     RunInterpolator<T>(className);
+  }
+  else if constexpr (IsQuantumNoise<T>::value)
+  {
+    RunQuantumNoise<T>(className);
   }
   else if constexpr (std::is_base_of<itk::ProcessObject, T>::value)
   {
