@@ -212,6 +212,11 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
                                                     "points nearer than that were dropped, the perspective weights "
                                                     "are very large and the standard error is unreliable there");
   }
+  if (!m_ComputeStandardError)
+  {
+    // Not computed (the coarse image traced one replicate): zero here, for Update() and Refine() alike.
+    std::fill(result.StandardError.begin(), result.StandardError.end(), 0.0);
+  }
   m_TotalMass = result.RoomMass;
   return result;
 }
@@ -268,16 +273,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
   m_PointsOnDetector = result.PointsOnDetector;
   m_RenderedTime = this->GetMTime();
   m_RenderedInputTime = this->GetInput()->GetMTime();
-  if (!m_ComputeStandardError)
-  {
-    std::fill(m_WeightedVarianceSum.begin(), m_WeightedVarianceSum.end(), 0.0);
-    std::vector<double> none(result.LineIntegral.size(), 0.0);
-    this->WriteOutputs(result.LineIntegral, &none);
-  }
-  else
-  {
-    this->WriteOutputs(result.LineIntegral, &result.StandardError);
-  }
+  this->WriteOutputs(result.LineIntegral, &result.StandardError);
   this->UpdateProgress(1.0f);
 }
 

@@ -175,6 +175,11 @@ TEST(DRRControlVariate, WithoutStandardErrorTheCoarseImageTracesOneReplicateAndS
     EXPECT_EQ(se, 0.0f);
   }
   EXPECT_NE(withError, without) << "half the rays must give another coarse image";
+  filter->Refine(20000);
+  for (float se : ToVector(filter->GetStandardErrorOutput()))
+  {
+    EXPECT_EQ(se, 0.0f) << "after Refine()";
+  }
   ExpectUnbiasedAgainstSiddon(filter.GetPointer(), "one replicate of coarse rays");
 
   // Without a control variate the option changes no bit of the image: the points are the same.
