@@ -35,6 +35,14 @@ function(same a b what)
   endif()
 endfunction()
 
+# different(A B WHAT): the two files differ (WHAT says what must have made them differ).
+function(different a b what)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${a}" "${b}" RESULT_VARIABLE differ)
+  if(NOT differ)
+    message(FATAL_ERROR "${what}: ${a} and ${b} are the same file")
+  endif()
+endfunction()
+
 # The geometry files beside two images: equal but for their first line, which names the image.
 function(same_view a b what)
   foreach(file a b)
@@ -106,11 +114,7 @@ run(independent --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/indepen
 run(independent_one --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/independent_4.mha --view-index 4
     --independent-views --threads 1)
 same(${WORK}/independent/v_4.mha ${WORK}/independent_4.mha "--independent-views --view-index 4")
-execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/independent/v_4.mha ${WORK}/sweep/v_4.mha
-                RESULT_VARIABLE differ_from_kept)
-if(NOT differ_from_kept)
-  message(FATAL_ERROR "--independent-views drew the kept points' view 4 again: not new points")
-endif()
+different(${WORK}/independent/v_4.mha ${WORK}/sweep/v_4.mha "--independent-views must draw new points, not the kept ones")
 
 # One view twice: the kept points give it twice, new points per view (their seeds from k) two different images.
 file(WRITE ${WORK}/twice.csv "gantry\n15\n15\n")
@@ -120,13 +124,9 @@ foreach(mode kept independent)
     set(flag --independent-views)
   endif()
   run(twice --views ${WORK}/twice.csv -o ${WORK}/twice_${mode}_%d.mha ${flag})
-  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/twice_${mode}_0.mha ${WORK}/twice_${mode}_1.mha
-                  RESULT_VARIABLE twice_${mode}_differ)
 endforeach()
-if(twice_kept_differ OR NOT twice_independent_differ)
-  message(FATAL_ERROR "one view twice: the kept points must give one image (differ: ${twice_kept_differ}), new points "
-                      "per view two (differ: ${twice_independent_differ})")
-endif()
+same(${WORK}/twice_kept_0.mha ${WORK}/twice_kept_1.mha "one view twice, with the kept points")
+different(${WORK}/twice_independent_0.mha ${WORK}/twice_independent_1.mha "one view twice, with new points per view")
 
 # RTK's XML: a sweep of mirrored views (RTK's own pixel layout) written with --write-rtk-geometry reads back to the
 # same images; a sweep in pbdrr's layout is written with RTK's rows reversed, and reads back mirrored, as RTK lays
@@ -156,22 +156,14 @@ run(photons --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/photons/v_%
 run(photons_one --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/photons_4.mha --photons 1000 --view-index 4
     --threads 1)
 same(${WORK}/photons/v_4.mha ${WORK}/photons_4.mha "--photons --view-index 4")
-execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/photons/v_4.mha ${WORK}/sweep/v_4.mha
-                RESULT_VARIABLE photons_differ)
-if(NOT photons_differ)
-  message(FATAL_ERROR "--photons 1000 left the image without quantum noise")
-endif()
+different(${WORK}/photons/v_4.mha ${WORK}/sweep/v_4.mha "--photons 1000 must add quantum noise")
 
 # A pose per view: reproduced by its index, and not the pose-less view.
 file(WRITE ${WORK}/poses.csv "gantry,tx,ty,tz,rx,ry,rz\n15,0,0,0,0,0,0\n15,4,0,-2,0,0,10\n")
 run(poses --views ${WORK}/poses.csv -o ${WORK}/poses/v_%d.mha)
 run(pose_one --views ${WORK}/poses.csv -o ${WORK}/pose_1.mha --view-index 1 --threads 1)
 same(${WORK}/poses/v_1.mha ${WORK}/pose_1.mha "a posed view by its index")
-execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/poses/v_1.mha ${WORK}/poses/v_0.mha
-                RESULT_VARIABLE posed_differs)
-if(NOT posed_differs)
-  message(FATAL_ERROR "the pose tx 4 tz -2 rz 10 did not move the CT")
-endif()
+different(${WORK}/poses/v_1.mha ${WORK}/poses/v_0.mha "the pose tx 4 tz -2 rz 10 must move the CT")
 
 # A stack: one 3D image of the views, slice k the sweep's view k (the pixels after the header, 16 x 12 floats each).
 run(stack --angles ${views} --angle-step 60 --gantry 15 -o ${WORK}/stack.mha --stack)
