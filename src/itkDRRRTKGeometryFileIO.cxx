@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRRTKGeometryFileIO.h"
+#include "itkDRRXMLSubsetParser.h"
 #include "itkDRRNumberParser.h"
 #include "itkEuler3DTransform.h"
 
@@ -30,11 +31,7 @@
 #include <limits>
 #include <sstream>
 
-// The XML is parsed by the small parser below rather than by ITKIOXML (itk::DOMNodeXMLReader, expat): RTK's geometry
-// uses a small subset of XML (a declaration, a DOCTYPE without internal subset, elements, attributes, character data,
-// comments), and the parser keeps the library's dependencies at ITKCommon and ITKTransform (no new ITK module, expat
-// library or find_package() component for the stand-alone, installed and fuzzing builds) while it reports every
-// malformation, including a truncated file, with its line.
+// The XML is parsed by DRRXMLSubsetParser (src/itkDRRXMLSubsetParser.h), not by ITKIOXML: see there why.
 
 namespace itk
 {
@@ -53,339 +50,6 @@ Lower(std::string text)
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
   return text;
 }
-
-// One XML element: its name, attributes, character data (children's excluded) and children.
-struct XMLElement
-{
-  std::string                                      Name;
-  std::vector<std::pair<std::string, std::string>> Attributes;
-  std::string                                      Text;
-  std::vector<XMLElement>                          Children;
-  size_t                                           Line{ 0 };
-};
-
-// A parser of the subset of XML 1.0 that geometry files use. Refuses (with the line) anything else it meets: a
-// malformed tag, an unknown entity, a mismatched or missing end tag, a second root, text outside the root.
-class XMLSubsetParser
-{
-public:
-  XMLSubsetParser(const std::string & text, const std::string & where) : m_Text(text), m_Where(where)
-  {
-    for (size_t i = 0; i < m_Text.size(); ++i)
-    {
-      if (m_Text[i] == '\n')
-      {
-        m_NewLines.push_back(i);
-      }
-    }
-  }
-
-  XMLElement
-  Parse()
-  {
-    this->SkipMisc(true);
-    if (m_Position >= m_Text.size())
-    {
-      this->Fail("not an XML document: no root element");
-    }
-    if (m_Text[m_Position] != '<')
-    {
-      this->Fail("not an XML document: text before the root element");
-    }
-    XMLElement root = this->ParseElement(0);
-    this->SkipMisc(false);
-    if (m_Position < m_Text.size())
-    {
-      this->Fail("not well-formed XML: content after the root element <" + root.Name + ">");
-    }
-    return root;
-  }
-
-  size_t
-  LineAt(size_t position) const
-  {
-    return static_cast<size_t>(std::lower_bound(m_NewLines.begin(), m_NewLines.end(), position) - m_NewLines.begin()) +
-           1;
-  }
-
-private:
-  [[noreturn]] void
-  Fail(const std::string & message) const
-  {
-    ThrowRTKError(m_Where + "line " + std::to_string(this->LineAt(std::min(m_Position, m_Text.size()))) + ": " +
-                  message);
-  }
-
-  bool
-  StartsWith(const char * prefix) const
-  {
-    return m_Text.compare(m_Position, std::char_traits<char>::length(prefix), prefix) == 0;
-  }
-
-  void
-  SkipSpace()
-  {
-    while (m_Position < m_Text.size() && std::isspace(static_cast<unsigned char>(m_Text[m_Position])))
-    {
-      ++m_Position;
-    }
-  }
-
-  // Skips to just after terminator, or fails naming what is unterminated.
-  void
-  SkipPast(const char * terminator, const std::string & what)
-  {
-    const size_t end = m_Text.find(terminator, m_Position);
-    if (end == std::string::npos)
-    {
-      this->Fail("truncated XML: " + what + " is not terminated by '" + terminator + "'");
-    }
-    m_Position = end + std::char_traits<char>::length(terminator);
-  }
-
-  // White space, comments and processing instructions (and, in the prolog, one DOCTYPE) between top-level items.
-  void
-  SkipMisc(bool prolog)
-  {
-    for (;;)
-    {
-      this->SkipSpace();
-      if (this->StartsWith("<?"))
-      {
-        this->SkipPast("?>", "a processing instruction");
-      }
-      else if (this->StartsWith("<!--"))
-      {
-        this->SkipPast("-->", "a comment");
-      }
-      else if (prolog && this->StartsWith("<!DOCTYPE"))
-      {
-        const size_t end = m_Text.find('>', m_Position);
-        if (end == std::string::npos)
-        {
-          this->Fail("truncated XML: the DOCTYPE is not terminated by '>'");
-        }
-        if (m_Text.find('[', m_Position) < end)
-        {
-          this->Fail("a DOCTYPE with an internal subset is not supported");
-        }
-        m_Position = end + 1;
-      }
-      else
-      {
-        return;
-      }
-    }
-  }
-
-  std::string
-  ParseName()
-  {
-    const size_t start = m_Position;
-    const auto   isNameCharacter = [](unsigned char c) {
-      return std::isalnum(c) || c == '_' || c == ':' || c == '-' || c == '.' || c >= 0x80;
-    };
-    while (m_Position < m_Text.size() && isNameCharacter(static_cast<unsigned char>(m_Text[m_Position])))
-    {
-      ++m_Position;
-    }
-    if (m_Position == start || std::isdigit(static_cast<unsigned char>(m_Text[start])) || m_Text[start] == '-' ||
-        m_Text[start] == '.')
-    {
-      if (m_Position >= m_Text.size())
-      {
-        this->Fail("truncated XML: a tag is cut off");
-      }
-      this->Fail("not well-formed XML: a tag without a valid name");
-    }
-    return m_Text.substr(start, m_Position - start);
-  }
-
-  // Character data up to the next '<' (or the quote ending an attribute value), entities decoded.
-  std::string
-  ParseCharacterData(char stop)
-  {
-    std::string result;
-    while (m_Position < m_Text.size() && m_Text[m_Position] != stop && m_Text[m_Position] != '<')
-    {
-      if (m_Text[m_Position] != '&')
-      {
-        result += m_Text[m_Position++];
-        continue;
-      }
-      const size_t semicolon = m_Text.find(';', m_Position);
-      if (semicolon == std::string::npos || semicolon - m_Position > 12)
-      {
-        this->Fail("not well-formed XML: '&' that does not start an entity");
-      }
-      const std::string entity = m_Text.substr(m_Position + 1, semicolon - m_Position - 1);
-      if (entity == "lt")
-      {
-        result += '<';
-      }
-      else if (entity == "gt")
-      {
-        result += '>';
-      }
-      else if (entity == "amp")
-      {
-        result += '&';
-      }
-      else if (entity == "quot")
-      {
-        result += '"';
-      }
-      else if (entity == "apos")
-      {
-        result += '\'';
-      }
-      else
-      {
-        // A numeric reference to an ASCII character; nothing else is meaningful in a geometry file.
-        char *        end = nullptr;
-        unsigned long code = 0;
-        bool          valid = entity.size() > 1 && entity[0] == '#';
-        if (valid)
-        {
-          const bool hexadecimal = entity[1] == 'x';
-          const auto digits = entity.substr(hexadecimal ? 2 : 1);
-          valid = !digits.empty() && std::isxdigit(static_cast<unsigned char>(digits[0]));
-          if (valid)
-          {
-            code = std::strtoul(digits.c_str(), &end, hexadecimal ? 16 : 10);
-            valid = *end == '\0' && code > 0 && code < 128;
-          }
-        }
-        if (!valid)
-        {
-          this->Fail("unsupported entity '&" + entity + ";'");
-        }
-        result += static_cast<char>(code);
-      }
-      m_Position = semicolon + 1;
-    }
-    return result;
-  }
-
-  XMLElement
-  ParseElement(unsigned int depth)
-  {
-    if (depth > 32)
-    {
-      this->Fail("elements nested more than 32 deep");
-    }
-    XMLElement element;
-    element.Line = this->LineAt(m_Position);
-    ++m_Position; // '<'
-    element.Name = this->ParseName();
-    for (;;)
-    {
-      const size_t before = m_Position;
-      this->SkipSpace();
-      if (m_Position >= m_Text.size())
-      {
-        this->Fail("truncated XML: the start tag <" + element.Name + "> is cut off");
-      }
-      if (this->StartsWith("/>"))
-      {
-        m_Position += 2;
-        return element;
-      }
-      if (m_Text[m_Position] == '>')
-      {
-        ++m_Position;
-        break;
-      }
-      if (m_Position == before)
-      {
-        this->Fail("not well-formed XML: in the start tag <" + element.Name + ">");
-      }
-      std::string name = this->ParseName();
-      this->SkipSpace();
-      if (m_Position >= m_Text.size() || m_Text[m_Position] != '=')
-      {
-        this->Fail("not well-formed XML: attribute '" + name + "' of <" + element.Name + "> has no value");
-      }
-      ++m_Position;
-      this->SkipSpace();
-      if (m_Position >= m_Text.size() || (m_Text[m_Position] != '"' && m_Text[m_Position] != '\''))
-      {
-        this->Fail("not well-formed XML: the value of attribute '" + name + "' is not quoted");
-      }
-      const char  quote = m_Text[m_Position++];
-      std::string value = this->ParseCharacterData(quote);
-      if (m_Position >= m_Text.size() || m_Text[m_Position] != quote)
-      {
-        this->Fail("not well-formed XML: the value of attribute '" + name + "' is not terminated");
-      }
-      ++m_Position;
-      element.Attributes.emplace_back(std::move(name), std::move(value));
-    }
-    // Content.
-    for (;;)
-    {
-      if (m_Position >= m_Text.size())
-      {
-        m_Position = m_Text.size();
-        this->Fail("truncated XML: element <" + element.Name + "> (line " + std::to_string(element.Line) +
-                   ") is not closed");
-      }
-      if (this->StartsWith("</"))
-      {
-        m_Position += 2;
-        const std::string name = this->ParseName();
-        this->SkipSpace();
-        if (m_Position >= m_Text.size())
-        {
-          this->Fail("truncated XML: the end tag </" + name + "> is cut off");
-        }
-        if (name != element.Name || m_Text[m_Position] != '>')
-        {
-          this->Fail("not well-formed XML: </" + name + "> closes <" + element.Name + "> (line " +
-                     std::to_string(element.Line) + ")");
-        }
-        ++m_Position;
-        return element;
-      }
-      if (this->StartsWith("<!--"))
-      {
-        this->SkipPast("-->", "a comment");
-      }
-      else if (this->StartsWith("<![CDATA["))
-      {
-        m_Position += 9;
-        const size_t end = m_Text.find("]]>", m_Position);
-        if (end == std::string::npos)
-        {
-          this->Fail("truncated XML: a CDATA section is not terminated");
-        }
-        element.Text += m_Text.substr(m_Position, end - m_Position);
-        m_Position = end + 3;
-      }
-      else if (this->StartsWith("<?"))
-      {
-        this->SkipPast("?>", "a processing instruction");
-      }
-      else if (this->StartsWith("<!"))
-      {
-        this->Fail("not well-formed XML: unexpected '<!' in <" + element.Name + ">");
-      }
-      else if (m_Text[m_Position] == '<')
-      {
-        element.Children.push_back(this->ParseElement(depth + 1));
-      }
-      else
-      {
-        element.Text += this->ParseCharacterData('<');
-      }
-    }
-  }
-
-  const std::string & m_Text;
-  std::string         m_Where;
-  std::vector<size_t> m_NewLines;
-  size_t              m_Position{ 0 };
-};
 
 using Matrix3x3 = Matrix<double, 3, 3>;
 
@@ -748,8 +412,8 @@ DRRRTKGeometryFileIO::ReadFromStream(std::istream & stream, const std::string & 
   {
     ThrowRTKError(where + "read error");
   }
-  XMLSubsetParser  parser(text, where);
-  const XMLElement root = parser.Parse();
+  DRRXMLSubsetParser                parser(text, "DRRRTKGeometryFileIO: " + where);
+  const DRRXMLSubsetParser::Element root = parser.Parse();
   if (root.Name != "RTKThreeDCircularGeometry")
   {
     ThrowRTKError(where + "the root element is <" + root.Name + ">, not RTK's <RTKThreeDCircularGeometry>");
@@ -810,7 +474,7 @@ DRRRTKGeometryFileIO::ReadFromStream(std::istream & stream, const std::string & 
   ReaderValue        state[KeyCount];
 
   // Parses a parameter element into the state; false if the element is not one (ignored, as RTK's reader does).
-  const auto readParameter = [&](const XMLElement & element, const std::string & context) -> bool {
+  const auto readParameter = [&](const DRRXMLSubsetParser::Element & element, const std::string & context) -> bool {
     std::string name = Lower(element.Name);
     if (name == "angle") // RTK's older name of GantryAngle
     {

@@ -20,6 +20,7 @@
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
 #include "pbdrrOutputFiles.h"
+#include "pbdrrProgressBar.h"
 #include "pbdrrRegistration.h"
 #include "pbdrrVolumeLoader.h"
 
@@ -52,9 +53,6 @@ namespace pbdrr
 {
 namespace
 {
-using GrayType = itk::Image<unsigned char, 2>;
-using Gray16Type = itk::Image<unsigned short, 2>;
-using OutputModeEnum = itk::PointBasedDRREnums::OutputMode;
 using Clock = std::chrono::steady_clock;
 
 double
@@ -64,55 +62,6 @@ SecondsSince(Clock::time_point start)
 }
 
 } // namespace
-
-/** The output kind an extension stands for: "png" (gray levels) or "float". Throws for unknown extensions. */
-std::string
-OutputKind(const std::string & path)
-{
-  const std::string lower = Lowercase(path);
-  for (const char * e : { ".mha", ".mhd", ".nrrd", ".nhdr", ".nii", ".nii.gz", ".tif", ".tiff" })
-  {
-    if (EndsWith(lower, e))
-    {
-      return "float";
-    }
-  }
-  if (EndsWith(lower, ".png"))
-  {
-    return "png";
-  }
-  throw UsageError("output " + path + ": unknown extension (use .mha, .nrrd, .nii, .nii.gz, .tif or .png)");
-}
-
-/** Checks up front, without creating anything, that a file can be written at path, so that a long render does not
- * end in a write error and a failed run leaves no empty file behind. */
-void
-CheckWritable(const std::string & path)
-{
-  struct stat status;
-  if (stat(path.c_str(), &status) == 0)
-  {
-    if (S_ISDIR(status.st_mode))
-    {
-      throw std::runtime_error("cannot write output " + path + ": it is a directory");
-    }
-    if (access(path.c_str(), W_OK) != 0)
-    {
-      throw std::runtime_error("cannot write output " + path + ": " + std::strerror(errno));
-    }
-    return;
-  }
-  const size_t      slash = path.find_last_of('/');
-  const std::string directory = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-  if (stat(directory.c_str(), &status) != 0 || !S_ISDIR(status.st_mode))
-  {
-    throw std::runtime_error("cannot write output " + path + ": directory " + directory + " does not exist");
-  }
-  if (access(directory.c_str(), W_OK) != 0)
-  {
-    throw std::runtime_error("cannot write output " + path + ": " + std::strerror(errno));
-  }
-}
 
 namespace
 {
@@ -302,101 +251,6 @@ MakeTransferFunction(const Options & options)
 
 namespace
 {
-/** Progress on a terminal only (never into a file or a pipe), shown once the work has run for half a second: a bar
- * with the time left for a render, a count of files for a load. */
-class ProgressBar
-{
-public:
-  explicit ProgressBar(bool enabled) : m_Enabled(enabled && isatty(fileno(stderr))), m_Start(Clock::now()) {}
-  ~ProgressBar() { this->Finish(); }
-
-  void
-  Show(float progress)
-  {
-    if (!this->Due())
-    {
-      return;
-    }
-    if (progress + 0.01f < m_LastProgress)
-    {
-      m_PhaseStart = Clock::now(); // a new stage of the render (the control variate's coarse image, then the points)
-    }
-    m_LastProgress = progress;
-    const int width = 40;
-    const int filled = static_cast<int>(progress * width + 0.5f);
-    std::fprintf(stderr,
-                 "\r[%s%s] %3d%%%s",
-                 std::string(filled, '=').c_str(),
-                 std::string(width - filled, ' ').c_str(),
-                 static_cast<int>(progress * 100.0f + 0.5f),
-                 TimeLeft(progress, SecondsSince(m_PhaseStart)).c_str());
-    std::fflush(stderr);
-    m_Shown = true;
-  }
-
-  /** "what done / total", e.g. the files of a DICOM series read so far. */
-  void
-  ShowCount(const char * what, size_t done, size_t total)
-  {
-    if (!this->Due())
-    {
-      return;
-    }
-    std::fprintf(stderr, "\r%s %zu / %zu", what, done, total);
-    std::fflush(stderr);
-    m_Shown = true;
-  }
-
-  void
-  Finish()
-  {
-    if (m_Shown)
-    {
-      std::fprintf(stderr, "\r%80s\r", "");
-      std::fflush(stderr);
-      m_Shown = false;
-    }
-  }
-
-private:
-  /** On a terminal, once the work has run for half a second. */
-  bool
-  Due() const
-  {
-    return m_Enabled && SecondsSince(m_Start) >= 0.5;
-  }
-
-  /** ", about 12 s left": the elapsed time scaled by what is left, once 2% is done (blank before, and at the end). */
-  static std::string
-  TimeLeft(float progress, double elapsedSeconds)
-  {
-    if (!(progress >= 0.02f) || progress >= 1.0f)
-    {
-      return "                    ";
-    }
-    const auto left = static_cast<long>(std::lround(elapsedSeconds * (1.0 - progress) / progress));
-    char       text[64];
-    if (left < 1)
-    {
-      std::snprintf(text, sizeof(text), ", under a second left  ");
-    }
-    else if (left < 60)
-    {
-      std::snprintf(text, sizeof(text), ", about %ld s left     ", left);
-    }
-    else
-    {
-      std::snprintf(text, sizeof(text), ", about %ld min %02ld s left", left / 60, left % 60);
-    }
-    return text;
-  }
-
-  bool              m_Enabled;
-  bool              m_Shown{ false };
-  Clock::time_point m_Start;
-  Clock::time_point m_PhaseStart{ m_Start };
-  float             m_LastProgress{ 0.0f };
-};
 
 std::string
 Describe(const VolumeType * volume)
@@ -438,189 +292,8 @@ DescribeGeometry(const itk::DRRProjectionGeometry * g)
   return s.str();
 }
 
-/** Writes an image at path through a temporary name (WriteAtomically), or directly for a format of two files. */
-template <typename TImage>
-void
-WriteImageAtomically(const TImage * image, const std::string & path)
-{
-  if (HasDetachedHeader(path))
-  {
-    itk::WriteImage(image, path);
-    return;
-  }
-  WriteAtomically(path, [image](const std::string & temporary) { itk::WriteImage(image, temporary); });
-}
-
-/** Gray-level window: the user's, or the 0.5 and 99.5 percentiles of the line integrals. */
-void
-ChooseWindow(const Options & options, const ProjectionType * image, double & level, double & width)
-{
-  if (options.window)
-  {
-    level = (*options.window)[0];
-    width = (*options.window)[1];
-    if (!(width > 0.0))
-    {
-      throw UsageError("--window width must be positive, got " + std::to_string(width));
-    }
-    return;
-  }
-  std::vector<float> values(image->GetBufferPointer(),
-                            image->GetBufferPointer() + image->GetBufferedRegion().GetNumberOfPixels());
-  std::sort(values.begin(), values.end());
-  const double low = values[static_cast<size_t>(0.005 * (values.size() - 1))];
-  const double high = values[static_cast<size_t>(0.995 * (values.size() - 1))];
-  width = std::max(high - low, 1e-6);
-  level = low + 0.5 * width;
-}
-
-template <typename TGray>
-void
-WriteGray(const ProjectionType * lineIntegral, const itk::DRROutputConversion & conversion, const std::string & path)
-{
-  auto gray = TGray::New();
-  gray->CopyInformation(lineIntegral);
-  gray->SetRegions(lineIntegral->GetLargestPossibleRegion());
-  gray->Allocate();
-  const float * in = lineIntegral->GetBufferPointer();
-  auto *        out = gray->GetBufferPointer();
-  for (size_t p = 0; p < gray->GetBufferedRegion().GetNumberOfPixels(); ++p)
-  {
-    out[p] = static_cast<typename TGray::PixelType>(conversion.Value(in[p]));
-  }
-  WriteImageAtomically(gray.GetPointer(), path);
-}
-
 } // namespace
 
-std::string
-GeometryPathBeside(const std::string & output)
-{
-  std::string  stem = output;
-  const size_t slash = stem.find_last_of('/');
-  const size_t dot = stem.find_last_of('.');
-  if (EndsWith(Lowercase(output), ".nii.gz"))
-  {
-    stem.resize(stem.size() - 7);
-  }
-  else if (dot != std::string::npos && (slash == std::string::npos || dot > slash))
-  {
-    stem.resize(dot);
-  }
-  return stem + ".geometry.txt";
-}
-
-/** The geometry file `--geometry` reads (every key, bit for bit) and, as comments, the 3 x 4 projection matrix, so that
- * another tool can reproduce the view. */
-std::string
-WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry * geometry)
-{
-  const std::string  path = GeometryPathBeside(output);
-  std::ostringstream text;
-  // The image's file name, not its path: the same view written into another folder (a shard's) is the same file.
-  text << "# the view of " << output.substr(output.find_last_of('/') + 1) << " (pbdrr --geometry reads it)\n";
-  if (geometry->HasProjectionMatrix())
-  {
-    // The matrix in the format --projection-matrix reads, commented out (remove the '#   ' to use it).
-    text << "# 3 x 4 projection matrix: room point X (mm) -> pixel (column, row) = (p0 / p2, p1 / p2), p = P [X; 1]\n";
-    std::stringstream matrix;
-    itk::DRRProjectionMatrixFileIO::WriteToStream(matrix, geometry->GetProjectionMatrix());
-    for (std::string line; std::getline(matrix, line);)
-    {
-      text << "#   " << line << "\n";
-    }
-  }
-  else
-  {
-    text << "# a " << itk::DRRPolicies::Beams::GetName(geometry->GetProjection())
-         << " beam has no 3 x 4 projection matrix: the view is the keys below\n";
-  }
-  itk::DRRProjectionGeometryFileIO::WriteToStream(text, geometry);
-  WriteAtomically(path, [&](const std::string & temporary) {
-    std::ofstream file(temporary);
-    file << text.str();
-    if (!file.flush())
-    {
-      throw std::runtime_error("cannot write the view beside the image: " + path);
-    }
-  });
-  return path;
-}
-
-/** The output mode: --output-mode, or the output extension's own; refuses a mode the extension cannot hold. */
-std::string
-OutputMode(const Options & options)
-{
-  const std::string kind = OutputKind(options.output);
-  const std::string mode = !options.outputMode.empty() ? options.outputMode : kind == "png" ? "gray8" : "line-integral";
-  if (kind == "png" && mode != "gray8" && mode != "gray16")
-  {
-    throw UsageError("a .png output holds gray levels: use --output-mode gray8 or gray16, or a float format (.mha)");
-  }
-  return mode;
-}
-
-/** Writes the line-integral image (and its standard error) as the output path and mode say. */
-void
-WriteOutputs(const Options &            options,
-             const ProjectionType *     lineIntegral,
-             const ProjectionType *     standardError,
-             std::vector<std::string> & notes)
-{
-  const std::string kind = OutputKind(options.output);
-  const std::string mode = OutputMode(options);
-  double            level = 0.0, width = 1.0;
-  if (mode == "gray8" || mode == "gray16")
-  {
-    ChooseWindow(options, lineIntegral, level, width);
-    notes.push_back("gray window: level " + std::to_string(level) + ", width " + std::to_string(width) +
-                    " (line-integral units)");
-  }
-  const OutputModeEnum           outputMode = mode == "transmission" ? OutputModeEnum::Transmission
-                                              : mode == "gray8"      ? OutputModeEnum::Gray8
-                                              : mode == "gray16"     ? OutputModeEnum::Gray16
-                                                                     : OutputModeEnum::LineIntegral;
-  const itk::DRROutputConversion conversion(outputMode, level - 0.5 * width, width);
-  auto                           write = [&](const ProjectionType * image, const std::string & path, bool isError) {
-    if (outputMode == OutputModeEnum::LineIntegral)
-    {
-      WriteImageAtomically(image, path);
-      return;
-    }
-    auto converted = ProjectionType::New();
-    converted->CopyInformation(image);
-    converted->SetRegions(image->GetLargestPossibleRegion());
-    converted->Allocate();
-    const float * in = image->GetBufferPointer();
-    const float * l = lineIntegral->GetBufferPointer();
-    float *       out = converted->GetBufferPointer();
-    for (size_t p = 0; p < converted->GetBufferedRegion().GetNumberOfPixels(); ++p)
-    {
-      // A standard error goes through the mode by the delta method: times d(value) / dL at the pixel's L.
-      out[p] = static_cast<float>(isError ? conversion.Slope(l[p]) * in[p] : conversion.Value(in[p]));
-    }
-    WriteImageAtomically(converted.GetPointer(), path);
-  };
-  if (kind == "png")
-  {
-    if (outputMode == OutputModeEnum::Gray8)
-    {
-      WriteGray<GrayType>(lineIntegral, conversion, options.output);
-    }
-    else
-    {
-      WriteGray<Gray16Type>(lineIntegral, conversion, options.output);
-    }
-  }
-  else
-  {
-    write(lineIntegral, options.output, false);
-  }
-  if (standardError)
-  {
-    write(standardError, options.standardErrorOutput, true);
-  }
-}
 Renderer
 MakeRenderer(const Options & options, const VolumeType * volume)
 {

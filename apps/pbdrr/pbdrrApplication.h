@@ -18,6 +18,7 @@
 #ifndef pbdrrApplication_h
 #define pbdrrApplication_h
 
+#include "pbdrrImageOutputs.h"
 #include "pbdrrOptions.h"
 #include "pbdrrVolumeLoader.h"
 
@@ -28,8 +29,6 @@
 
 namespace pbdrr
 {
-/** A DRR: line integrals (dimensionless) on the detector's pixels. */
-using ProjectionType = itk::Image<float, 2>;
 /** What every renderer is: the point-based filter or an exact projector. */
 using BaseFilterType = itk::DRRImageFilterBase<VolumeType, ProjectionType>;
 /** The point-based renderer. */
@@ -59,35 +58,6 @@ MakeTransferFunction(const Options & options);
 /** The image with quantum noise (--photons, DRRQuantumNoiseImageFilter seeded by seed), or image itself without. */
 ProjectionType::ConstPointer
 AddQuantumNoise(const Options & options, const ProjectionType * image, uint64_t seed);
-
-/** The output kind an extension stands for: "png" (gray levels) or "float". Throws UsageError for others. */
-std::string
-OutputKind(const std::string & path);
-
-/** The output mode: --output-mode, or the output extension's own; refuses a mode the extension cannot hold. */
-std::string
-OutputMode(const Options & options);
-
-/** Throws unless a file can be written at path (checked without creating anything). */
-void
-CheckWritable(const std::string & path);
-
-/** Writes options.output (and options.standardErrorOutput if standardError is not null) in the output mode, each
- * through a temporary name renamed when whole; notes gets the gray window chosen, if any. */
-void
-WriteOutputs(const Options &            options,
-             const ProjectionType *     lineIntegral,
-             const ProjectionType *     standardError,
-             std::vector<std::string> & notes);
-
-/** The path of the view beside output: output's stem (without .mha, .nii.gz, ...) + ".geometry.txt". */
-std::string
-GeometryPathBeside(const std::string & output);
-
-/** Writes the view beside output (output's stem + ".geometry.txt": the keys --geometry reads and, as comments, the
- * 3 x 4 projection matrix), through a temporary name; returns its path. */
-std::string
-WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry * geometry);
 
 /** Loads, renders and writes as the options say. Throws std::runtime_error (or itk::ExceptionObject) on failure. */
 void
