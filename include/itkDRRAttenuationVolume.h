@@ -104,6 +104,30 @@ public:
   void
   BuildFromMu(const SizeType & size, const MuFunctionType & fill, MultiThreaderBase * threader);
 
+  /** Makes every voxel v with keep[v] == 0 air (x fastest, one entry per voxel): mu 0, in no level, never sampled.
+   * The labels a render leaves out (DRRImageFilterBase::SetKeptLabels()). Levels keep their order and mu; levels left
+   * empty are removed. */
+  void
+  ApplyVoxelMask(const uint8_t * keep, MultiThreaderBase * threader);
+
+  /** Gives every voxel a channel, 0 to numberOfChannels - 1 (x fastest, one entry per voxel; 2 to 256 channels), or
+   * none (an empty vector and 1): a point drawn in a voxel adds to the voxel's channel image
+   * (DRRPointRenderer::Settings::VoxelChannels), and the exact projectors integrate each channel's voxels apart. */
+  void
+  SetVoxelChannels(std::vector<uint8_t> channels, unsigned int numberOfChannels);
+  /** The channel of every voxel, or null without channels. */
+  const uint8_t *
+  GetVoxelChannels() const
+  {
+    return m_VoxelChannels.empty() ? nullptr : m_VoxelChannels.data();
+  }
+  /** Number of channels (1 without channels). */
+  unsigned int
+  GetNumberOfChannels() const
+  {
+    return m_NumberOfChannels;
+  }
+
   /** Grid size in voxels (x, y, z). */
   const SizeType &
   GetSize() const
@@ -296,6 +320,8 @@ private:
   float                            m_LargestMu{ 0.0f };
   MatrixType                       m_IndexToPhysical;
   PointType                        m_Origin;
+  std::vector<uint8_t>             m_VoxelChannels;
+  unsigned int                     m_NumberOfChannels{ 1 };
 };
 } // namespace itk
 

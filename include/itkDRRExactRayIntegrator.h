@@ -62,22 +62,31 @@ public:
   DRRExactRayIntegrator(const DRRAttenuationVolume & volume, KernelEnum kernel, unsigned int indexCoarsening = 1);
 
   /** Integral of mu over the parameter t in [0, 1] of the segment p0 -> p1 (continuous index coordinates of the
-   * volume's own grid): multiply by the segment's length in mm to get the line integral. */
+   * volume's own grid): multiply by the segment's length in mm to get the line integral. With channels (not null; a
+   * volume with channels, DRRAttenuationVolume::GetVoxelChannels()), also adds channelScale times the integral of
+   * each channel's part of mu to channels[k] (the box model: the voxel's channel; the tent model: each corner's). */
   double
-  IntegrateSegment(const double p0[3], const double p1[3]) const;
+  IntegrateSegment(const double p0[3],
+                   const double p1[3],
+                   double *     channels = nullptr,
+                   double       channelScale = 1.0) const;
 
-  /** Line integral (dimensionless) along one ray through the detector point (column, row), fractional allowed. */
+  /** Line integral (dimensionless) along one ray through the detector point (column, row), fractional allowed. With
+   * channels (not null, a volume with channels), also adds each channel's line integral to channels[k]. */
   double
-  IntegrateRay(const DRRPointProjection & projection, double column, double row) const;
+  IntegrateRay(const DRRPointProjection & projection, double column, double row, double * channels = nullptr) const;
 
   /** The projection image (cols x rows, columns fastest; dimensionless line integrals): the average of raysPerSide^2
    * rays per pixel, on the threads of threader (not null), reporting progress to progressFilter (may be null), which
-   * is also checked for abort. */
+   * is also checked for abort. With channelImage (not null) and a volume with K channels, also each channel's
+   * image into it, K values per pixel (pixel major); the image is the same bits either way, and the channels add up
+   * to it within rounding. */
   std::vector<double>
   RenderProjection(const DRRPointProjection & projection,
                    unsigned int               raysPerSide,
                    MultiThreaderBase *        threader,
-                   ProcessObject *            progressFilter) const;
+                   ProcessObject *            progressFilter,
+                   std::vector<double> *      channelImage = nullptr) const;
 
   /** Unbiased estimates of every pixel's footprint average of the line integral, (1 / a) * integral of share(x) L(x)
    * dx over the detector, with share the splat's (DRRNearestSplat::FootprintOffset()): two independent replicates of
@@ -103,21 +112,26 @@ public:
 private:
   /** Siddon's traversal of the box model from the entry cell to tExit (the cursors of IntegrateSegment()): the
    * integral of mu over the segment's parameter. */
+  template <bool VChannels>
   double
   TraverseBox(const int64_t cell[3],
               const int64_t step[3],
               const double  tNext[3],
               const double  tDelta[3],
               double        tEnter,
-              double        tExit) const;
+              double        tExit,
+              double *      channels,
+              double        channelScale) const;
 
   /** The ray's segment through the model's support (continuous indices of the volume's own grid); returns its
    * length, mm. */
   double
   ComputeRaySegment(const DRRPointProjection & projection, double column, double row, double p0[3], double p1[3]) const;
 
+  /** The trilinear interpolant in a cell (its lower corner voxel, the fractions); with channels, also adds
+   * channelScale times each corner's term to its voxel's channel. */
   double
-  Trilinear(const int64_t corner[3], const double fraction[3]) const;
+  Trilinear(const int64_t corner[3], const double fraction[3], double * channels, double channelScale) const;
 
   const DRRAttenuationVolume & m_Volume;
   bool                         m_Siddon;          // the box model's Siddon traversal, or else the trilinear one

@@ -21,6 +21,8 @@
 #include "itkImageToImageFilter.h"
 #include "itkTransform.h"
 #include "itkDRRAttenuationVolume.h"
+#include "itkDRRLabelSelection.h"
+#include "itkVectorImage.h"
 #include "itkDRRPointProjection.h"
 #include "itkDRRProjectionGeometry.h"
 #include "itkDRRTransferFunction.h"
@@ -43,6 +45,10 @@ namespace itk
  *   (lengths are measured in the room).
  * - OutputMode: LineIntegral (default), Transmission exp(-L), Gray8 / Gray16 (window level / width in line-integral
  *   units; width 0 means the image's own range).
+ * - Labels (optional, docs/design.md section 13): a label image beside the volume (SetLabelImage()) selects which
+ *   voxels attenuate (SetKeptLabels(), SetDroppedLabels()) and, with LabelChannels on, splits the projection into one
+ *   line-integral image per label in one render: GetChannelOutput(), a VectorImage with a component per label
+ *   (GetChannelLabels()), and GetChannelCovarianceOutput(), the covariance of the components' estimates.
  *
  * The attenuation volume (mu per voxel) is computed once per input and transfer function and reused across updates
  * that change only the geometry or transform, as registration does.
@@ -83,6 +89,12 @@ public:
   using TransferFunctionType = DRRTransferFunction;
   /** What the output pixels hold. */
   using OutputModeEnum = PointBasedDRREnums::OutputMode;
+  /** A label value (0 to 65535). */
+  using LabelPixelType = DRRLabelSelection::LabelType;
+  /** A list of labels. */
+  using LabelListType = DRRLabelSelection::LabelListType;
+  /** The label image: a label per voxel, on the volume's grid or resampled onto it by nearest neighbour. */
+  using LabelImageType = Image<LabelPixelType, 3>;
 
   /** Dimension of the input volume: 3. */
   static constexpr unsigned int InputImageDimension = TInputImage::ImageDimension;
@@ -92,6 +104,8 @@ public:
   static_assert(OutputImageDimension == 2 || OutputImageDimension == 3,
                 "DRR filters write a 2D image or a 3D image with one slice");
   static_assert(std::is_arithmetic<InputPixelType>::value, "DRR filters take scalar voxels");
+  /** Channel images: a line integral (dimensionless) per channel and pixel, on the projection's grid. */
+  using ChannelImageType = VectorImage<float, OutputImageDimension>;
 
   ///@{
   /** The projection geometry. A default one (perspective, SAD 1000 mm, SID 1500 mm, 256 x 256 at 1 mm) exists. */
@@ -129,6 +143,42 @@ public:
   itkSetMacro(WindowWidth, double);
   itkGetConstMacro(WindowWidth, double);
   ///@}
+
+  ///@{
+  /** Optional label image (docs/design.md section 13): a label (0 to 65535) per voxel, on the volume's grid (size,
+   * origin, spacing, direction), or else resampled onto it by nearest neighbour (0 outside it), with a warning. */
+  itkSetInputMacro(LabelImage, LabelImageType);
+  itkGetInputMacro(LabelImage, LabelImageType);
+  ///@}
+  /** Only voxels of these labels attenuate (empty, the default: every label). Each must be in the label image. */
+  void
+  SetKeptLabels(const LabelListType & labels);
+  /** The kept labels (empty: every label). */
+  itkGetConstReferenceMacro(KeptLabels, LabelListType);
+  /** Voxels of these labels do not attenuate (default none). Each must be in the label image. */
+  void
+  SetDroppedLabels(const LabelListType & labels);
+  /** The dropped labels. */
+  itkGetConstReferenceMacro(DroppedLabels, LabelListType);
+  ///@{
+  /** Label channels (default off): one line-integral image per attenuating label, in increasing label order, from
+   * the same render (GetChannelOutput()). Their sum is the projection (for the point-based filter, its fixed-point
+   * sums are the projection's, exactly). Needs a label image. */
+  void
+  SetLabelChannels(bool channels);
+  itkGetConstMacro(LabelChannels, bool);
+  itkBooleanMacro(LabelChannels);
+  ///@}
+  /** The labels of the channels of the last update, in channel order (empty without channels). */
+  itkGetConstReferenceMacro(ChannelLabels, LabelListType);
+  /** The channel images of the last update with LabelChannels on: a component per channel (GetChannelLabels()), line
+   * integrals (dimensionless) whatever the output mode; an empty image otherwise. */
+  ChannelImageType *
+  GetChannelOutput();
+  /** The covariance of the channels' estimates per pixel (dimensionless^2): K (K + 1) / 2 components, the upper
+   * triangle row major, (0, 0), (0, 1), ..., (K - 1, K - 1); zero for the exact filter. */
+  ChannelImageType *
+  GetChannelCovarianceOutput();
 
   /** The attenuation model of the current input (built on demand). */
   const DRRAttenuationVolume *
@@ -170,6 +220,16 @@ protected:
   void
   WriteOutputs(const std::vector<double> & lineIntegral, const std::vector<double> * standardError = nullptr);
 
+  /** Writes the channel outputs: K line integrals per pixel (pixel major) and, if not null, K (K + 1) / 2 covariance
+   * entries per pixel (zero if null). Leaves both empty (no components) without channels. */
+  void
+  WriteChannelOutputs(const std::vector<double> & channels, const std::vector<double> * covariance);
+
+  /** Makes the channel outputs (named "Channels" and "ChannelCovariance"). */
+  using Superclass::MakeOutput;
+  DataObject::Pointer
+  MakeOutput(const ProcessObject::DataObjectIdentifierType & name) override;
+
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
@@ -178,6 +238,15 @@ private:
   BuildAttenuationVolume();
   OutputPixelType *
   AllocateOutput(unsigned int index, size_t numberOfPixels);
+  /** The label image on the volume's grid: the input itself, or its nearest-neighbour resampling. */
+  std::vector<LabelPixelType>
+  LabelsOnVolumeGrid(const InputImageType & input);
+  /** Latest change of the label image or the label selection (0 without a label image and a selection). */
+  ModifiedTimeType
+  GetLabelTime() const;
+  /** Applies the labels to the volume being built (DRRLabelSelection). */
+  void
+  ApplyLabels(const InputImageType & input, DRRAttenuationVolume & volume);
 
   typename GeometryType::Pointer         m_Geometry;
   typename TransformType::ConstPointer   m_Transform;
@@ -190,6 +259,14 @@ private:
   const InputImageType *        m_AttenuationVolumeInput{ nullptr };
   ModifiedTimeType              m_AttenuationVolumeInputTime{ 0 };
   ModifiedTimeType              m_AttenuationVolumeTransferTime{ 0 };
+  ModifiedTimeType              m_AttenuationVolumeLabelTime{ 0 };
+  const LabelImageType *        m_AttenuationVolumeLabelImage{ nullptr };
+
+  LabelListType m_KeptLabels;
+  LabelListType m_DroppedLabels;
+  bool          m_LabelChannels{ false };
+  LabelListType m_ChannelLabels;
+  TimeStamp     m_LabelSelectionTime; // the last change of the kept or dropped labels or of the channels
 };
 } // namespace itk
 

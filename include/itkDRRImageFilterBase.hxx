@@ -33,6 +33,69 @@ DRRImageFilterBase<TInputImage, TOutputImage>::DRRImageFilterBase()
   : m_Geometry(GeometryType::New()), m_TransferFunction(TransferFunctionType::New())
 {
   this->SetNumberOfRequiredInputs(1);
+  this->ProcessObject::SetOutput("Channels", this->MakeOutput("Channels"));
+  this->ProcessObject::SetOutput("ChannelCovariance", this->MakeOutput("ChannelCovariance"));
+}
+
+template <typename TInputImage, typename TOutputImage>
+DataObject::Pointer
+DRRImageFilterBase<TInputImage, TOutputImage>::MakeOutput(const ProcessObject::DataObjectIdentifierType & name)
+{
+  if (name == "Channels" || name == "ChannelCovariance")
+  {
+    return ChannelImageType::New().GetPointer();
+  }
+  return Superclass::MakeOutput(name);
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+DRRImageFilterBase<TInputImage, TOutputImage>::GetChannelOutput() -> ChannelImageType *
+{
+  return dynamic_cast<ChannelImageType *>(this->ProcessObject::GetOutput("Channels"));
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+DRRImageFilterBase<TInputImage, TOutputImage>::GetChannelCovarianceOutput() -> ChannelImageType *
+{
+  return dynamic_cast<ChannelImageType *>(this->ProcessObject::GetOutput("ChannelCovariance"));
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::SetKeptLabels(const LabelListType & labels)
+{
+  if (labels != m_KeptLabels)
+  {
+    m_KeptLabels = labels;
+    m_LabelSelectionTime.Modified();
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::SetDroppedLabels(const LabelListType & labels)
+{
+  if (labels != m_DroppedLabels)
+  {
+    m_DroppedLabels = labels;
+    m_LabelSelectionTime.Modified();
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::SetLabelChannels(bool channels)
+{
+  if (channels != m_LabelChannels)
+  {
+    m_LabelChannels = channels;
+    m_LabelSelectionTime.Modified();
+    this->Modified();
+  }
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -102,10 +165,15 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GenerateOutputInformation()
     size[OutputImageDimension - 1] = 1;
     spacing[OutputImageDimension - 1] = 1.0;
   }
-  const OutputImageRegionType region(start, size);
+  const OutputImageRegionType                    region(start, size);
+  std::vector<ImageBase<OutputImageDimension> *> outputs{ this->GetChannelOutput(),
+                                                          this->GetChannelCovarianceOutput() };
   for (unsigned int i = 0; i < this->GetNumberOfIndexedOutputs(); ++i)
   {
-    OutputImageType * output = this->GetOutput(i);
+    outputs.push_back(this->GetOutput(i));
+  }
+  for (ImageBase<OutputImageDimension> * output : outputs)
+  {
     if (output)
     {
       output->SetLargestPossibleRegion(region);
@@ -125,6 +193,11 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
   if (input)
   {
     input->SetRequestedRegionToLargestPossibleRegion();
+  }
+  auto * labels = const_cast<LabelImageType *>(this->GetLabelImage());
+  if (labels)
+  {
+    labels->SetRequestedRegionToLargestPossibleRegion();
   }
 }
 
@@ -183,10 +256,85 @@ DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
   MultiThreaderBase * threader = this->GetMultiThreader();
   threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
   volume->Build(input->GetBufferPointer(), size, *m_TransferFunction, threader);
+  this->ApplyLabels(*input, *volume);
   m_AttenuationVolume = volume;
   m_AttenuationVolumeInput = input;
   m_AttenuationVolumeInputTime = input->GetMTime();
   m_AttenuationVolumeTransferTime = m_TransferFunction->GetMTime();
+  m_AttenuationVolumeLabelTime = this->GetLabelTime();
+  m_AttenuationVolumeLabelImage = this->GetLabelImage();
+}
+
+template <typename TInputImage, typename TOutputImage>
+ModifiedTimeType
+DRRImageFilterBase<TInputImage, TOutputImage>::GetLabelTime() const
+{
+  const LabelImageType * labels = this->GetLabelImage();
+  return std::max<ModifiedTimeType>(m_LabelSelectionTime.GetMTime(), labels ? labels->GetMTime() : 0);
+}
+
+template <typename TInputImage, typename TOutputImage>
+std::vector<typename DRRImageFilterBase<TInputImage, TOutputImage>::LabelPixelType>
+DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputImageType & input)
+{
+  const LabelImageType * labels = this->GetLabelImage();
+  const auto             region = input.GetLargestPossibleRegion();
+  const auto             labelRegion = labels->GetLargestPossibleRegion();
+  if (labels->GetBufferedRegion() != labelRegion)
+  {
+    itkExceptionMacro("the whole label image must be buffered");
+  }
+  const double tolerance = 1e-4 * input.GetSpacing().GetVnlVector().min_value();
+  bool         sameGrid =
+    region.GetSize() == labelRegion.GetSize() &&
+    input.GetOrigin().EuclideanDistanceTo(labels->GetOrigin()) <= tolerance &&
+    (input.GetSpacing() - labels->GetSpacing()).GetNorm() <= tolerance &&
+    (input.GetDirection().GetVnlMatrix() - labels->GetDirection().GetVnlMatrix()).absolute_value_max() <= 1e-6;
+  const size_t numberOfVoxels = region.GetNumberOfPixels();
+  if (sameGrid)
+  {
+    return std::vector<LabelPixelType>(labels->GetBufferPointer(), labels->GetBufferPointer() + numberOfVoxels);
+  }
+  itkWarningMacro("the label image (size "
+                  << labelRegion.GetSize() << ", spacing " << labels->GetSpacing() << ", origin " << labels->GetOrigin()
+                  << ") is not on the volume's grid (size " << region.GetSize() << ", spacing " << input.GetSpacing()
+                  << ", origin " << input.GetOrigin()
+                  << "): resampled onto it by nearest neighbour, label 0 outside it");
+  std::vector<LabelPixelType> resampled(numberOfVoxels, 0);
+  const auto                  size = region.GetSize();
+  for (size_t v = 0; v < numberOfVoxels; ++v)
+  {
+    typename InputImageType::IndexType index;
+    index[0] = region.GetIndex()[0] + static_cast<IndexValueType>(v % size[0]);
+    index[1] = region.GetIndex()[1] + static_cast<IndexValueType>((v / size[0]) % size[1]);
+    index[2] = region.GetIndex()[2] + static_cast<IndexValueType>(v / (size[0] * size[1]));
+    typename InputImageType::PointType point;
+    input.TransformIndexToPhysicalPoint(index, point);
+    typename LabelImageType::IndexType labelIndex;
+    if (labels->TransformPhysicalPointToIndex(point, labelIndex))
+    {
+      resampled[v] = labels->GetPixel(labelIndex);
+    }
+  }
+  return resampled;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::ApplyLabels(const InputImageType & input, DRRAttenuationVolume & volume)
+{
+  m_ChannelLabels.clear();
+  if (!this->GetLabelImage())
+  {
+    if (!m_KeptLabels.empty() || !m_DroppedLabels.empty() || m_LabelChannels)
+    {
+      itkExceptionMacro("kept or dropped labels and label channels need a label image (SetLabelImage())");
+    }
+    return;
+  }
+  const std::vector<LabelPixelType> labels = this->LabelsOnVolumeGrid(input);
+  m_ChannelLabels = DRRLabelSelection::Apply(
+    labels.data(), m_KeptLabels, m_DroppedLabels, m_LabelChannels, volume, this->GetMultiThreader());
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -196,7 +344,8 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetAttenuationVolume()
   const InputImageType * input = this->GetInput();
   if (!m_AttenuationVolume || input != m_AttenuationVolumeInput || !input ||
       input->GetMTime() != m_AttenuationVolumeInputTime ||
-      m_TransferFunction->GetMTime() != m_AttenuationVolumeTransferTime)
+      m_TransferFunction->GetMTime() != m_AttenuationVolumeTransferTime ||
+      this->GetLabelTime() != m_AttenuationVolumeLabelTime || this->GetLabelImage() != m_AttenuationVolumeLabelImage)
   {
     this->BuildAttenuationVolume();
   }
@@ -303,6 +452,45 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
   }
 }
 template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::WriteChannelOutputs(const std::vector<double> & channels,
+                                                                   const std::vector<double> * covariance)
+{
+  const size_t K = m_ChannelLabels.size();
+  for (ChannelImageType * output : { this->GetChannelOutput(), this->GetChannelCovarianceOutput() })
+  {
+    const bool   isCovariance = output == this->GetChannelCovarianceOutput();
+    const size_t components = isCovariance ? K * (K + 1) / 2 : K;
+    if (K == 0)
+    {
+      output->SetBufferedRegion(OutputImageRegionType());
+      output->Initialize();
+      continue;
+    }
+    output->SetNumberOfComponentsPerPixel(static_cast<unsigned int>(components));
+    output->SetBufferedRegion(output->GetRequestedRegion());
+    output->Allocate();
+    const size_t                values = output->GetBufferedRegion().GetNumberOfPixels() * components;
+    const std::vector<double> * source = isCovariance ? covariance : &channels;
+    if (source && source->size() != values)
+    {
+      itkExceptionMacro("internal error: " << source->size() << " channel values for an output of " << values);
+    }
+    float * buffer = output->GetBufferPointer();
+    for (size_t i = 0; i < values; ++i)
+    {
+      const double value = source ? (*source)[i] : 0.0;
+      if (!std::isfinite(value) || !(std::abs(value) <= std::numeric_limits<float>::max()))
+      {
+        itkExceptionMacro("channel value " << i % components << " of pixel " << i / components << " (" << value
+                                           << ") is not finite or beyond float");
+      }
+      buffer[i] = static_cast<float>(value);
+    }
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
 auto
 DRRImageFilterBase<TInputImage, TOutputImage>::AllocateOutput(unsigned int index, size_t numberOfPixels)
   -> OutputPixelType *
@@ -331,6 +519,11 @@ DRRImageFilterBase<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Inde
   os << indent << "OutputMode: " << m_OutputMode << std::endl;
   os << indent << "WindowLevel: " << m_WindowLevel << std::endl;
   os << indent << "WindowWidth: " << m_WindowWidth << std::endl;
+  os << indent << "LabelImage: " << (this->GetLabelImage() ? "set" : "(none)") << std::endl;
+  os << indent << "KeptLabels: " << DRRLabelSelection::ToString(m_KeptLabels) << std::endl;
+  os << indent << "DroppedLabels: " << DRRLabelSelection::ToString(m_DroppedLabels) << std::endl;
+  os << indent << "LabelChannels: " << (m_LabelChannels ? "On" : "Off") << std::endl;
+  os << indent << "ChannelLabels: " << DRRLabelSelection::ToString(m_ChannelLabels) << std::endl;
 }
 } // namespace itk
 

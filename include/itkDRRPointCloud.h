@@ -78,9 +78,11 @@ public:
     std::array<double, 3> SupportUpper{};                ///< continuous-index box the points lie in: upper corner
     std::array<size_t, 3> VolumeSize{};                  ///< voxels of the volume drawn from (x, y, z)
     uint64_t              Seed{ 0 };                     ///< seed the points were drawn with
+    unsigned int          NumberOfChannels{ 1 };         ///< channels of the voxels (1: no channels kept)
   };
 
-  /** Sizes the cloud for numberOfPoints points (weights and strata only if asked for) and sets its description. */
+  /** Sizes the cloud for numberOfPoints points (weights and strata only if asked for; a channel per point if the
+   * description has more than one) and sets its description. */
   void
   Allocate(uint64_t numberOfPoints, bool withWeights, bool withStrata, const Description & description);
 
@@ -157,11 +159,25 @@ public:
     return m_Stratum.empty() ? nullptr : m_Stratum.data();
   }
   ///@}
+  ///@{
+  /** Channel of every point (the channel of the voxel it was drawn in, DRRAttenuationVolume::GetVoxelChannels()), or
+   * null with one channel. */
+  uint8_t *
+  GetChannels()
+  {
+    return m_Channel.empty() ? nullptr : m_Channel.data();
+  }
+  const uint8_t *
+  GetChannels() const
+  {
+    return m_Channel.empty() ? nullptr : m_Channel.data();
+  }
+  ///@}
 
   /** Memory held by the points, bytes. */
   size_t
   GetSizeInBytes() const;
-  /** Memory held per point, bytes: 12 for the positions, plus 4 with weights and 1 with strata
+  /** Memory held per point, bytes: 12 for the positions, plus 4 with weights, 1 with strata and 1 with channels
    * (0 for an empty cloud). */
   double
   GetBytesPerPoint() const;
@@ -178,6 +194,7 @@ private:
   std::vector<float>   m_Z;
   std::vector<float>   m_Weight;
   std::vector<uint8_t> m_Stratum;
+  std::vector<uint8_t> m_Channel;
   Description          m_Description;
 };
 } // namespace itk

@@ -112,6 +112,11 @@ public:
      * of the volume (bit v % 64 of word v / 64), set where a point drawn in the voxel carries a negative weight; null:
      * every weight is positive. */
     const uint64_t * NegativeVoxels{ nullptr };
+    /** Channels (docs/design.md section 13): the channel, 0 to NumberOfChannels - 1, of every voxel of the volume (x
+     * fastest, DRRAttenuationVolume::GetVoxelChannels()); null: one channel. A point adds to the channel of the voxel
+     * it was drawn in; the channels' fixed-point sums add up, exactly, to the sums of the render without channels. */
+    const uint8_t * VoxelChannels{ nullptr };
+    unsigned int    NumberOfChannels{ 1 }; ///< K, 1 to 256 (1: no channel images)
   };
 
   /** What a render returns. */
@@ -126,6 +131,14 @@ public:
     uint64_t            PointsOnDetector{ 0 };     ///< points that landed on the detector (nearest pixel inside)
     uint64_t            NumberOfStrata{ 1 };       ///< 1: standard error from the points; more: from the strata
     uint64_t            NumberOfSamples{ 0 };      ///< drawn: N, or R ceil(N / R) for samplers that interleave R strata
+    /** K channels rendered (0: none). The line integral and standard error above are then the sum of the channels,
+     * the same bits as a render without channels. */
+    unsigned int NumberOfChannels{ 0 };
+    /** Line integral of every channel, dimensionless; pixel major: K values per pixel, columns fastest. */
+    std::vector<double> ChannelLineIntegral;
+    /** Covariance of the channels' estimates per pixel (dimensionless^2): K (K + 1) / 2 values per pixel, the upper
+     * triangle row major, (0, 0), (0, 1), ..., (0, K - 1), (1, 1), ..., (K - 1, K - 1). */
+    std::vector<double> ChannelCovariance;
   };
 
   /** Renders. The volume must be the one the sampler was initialized with; the points are drawn from the sampler's

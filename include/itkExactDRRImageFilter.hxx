@@ -30,9 +30,12 @@ ExactDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
   this->UpdateProgress(0.0f);
   const DRRPointProjection    projection = this->MakeProjection();
   const DRRExactRayIntegrator integrator(*this->GetAttenuationVolume(), m_ReconstructionKernel);
+  std::vector<double>         channels;
   const std::vector<double>   image =
-    integrator.RenderProjection(projection, m_RaysPerPixelSide, this->GetMultiThreader(), this);
+    integrator.RenderProjection(projection, m_RaysPerPixelSide, this->GetMultiThreader(), this, &channels);
   this->WriteOutputs(image);
+  // One channel is the image itself; an exact projection has no estimation error (a covariance of zeros).
+  this->WriteChannelOutputs(this->GetChannelLabels().size() == 1 ? image : channels, nullptr);
   this->UpdateProgress(1.0f);
 }
 

@@ -280,8 +280,10 @@ private:
   unsigned int                  m_NumberOfPasses{ 0 };
   ModifiedTimeType              m_RenderedTime{ 0 };
   ModifiedTimeType              m_RenderedInputTime{ 0 };
-  std::vector<double>           m_WeightedEstimateSum; // sum over passes of N_k L_k, per pixel
-  std::vector<double>           m_WeightedVarianceSum; // sum over passes of N_k^2 SE_k^2, per pixel
+  std::vector<double>           m_WeightedEstimateSum;          // sum over passes of N_k L_k, per pixel
+  std::vector<double>           m_WeightedVarianceSum;          // sum over passes of N_k^2 SE_k^2, per pixel
+  std::vector<double>           m_WeightedChannelSum;           // sum over passes of N_k L_k, per pixel and channel
+  std::vector<double>           m_WeightedChannelCovarianceSum; // sum over passes of N_k^2 C_k, per pixel and pair
   uint64_t                      m_PointsOnDetector{ 0 };
   bool                          m_ReusePoints{ false };
   DRRPointCloud::Pointer        m_PointCloud;

@@ -47,6 +47,17 @@ template <typename TInputImage, typename TOutputImage>
 unsigned int
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveControlVariateFactor()
 {
+  if (this->GetAttenuationVolume()->GetNumberOfChannels() > 1)
+  {
+    // The coarse image mixes the labels of a block: channels render without a control variate.
+    if (m_ControlVariateFactor != 0 && m_ControlVariateFactor != AutomaticControlVariateFactor)
+    {
+      itkExceptionMacro("label channels are rendered without a control variate (its coarse blocks mix labels): set "
+                        "ControlVariateFactor to 0 or AutomaticControlVariateFactor, not "
+                        << m_ControlVariateFactor);
+    }
+    return 0;
+  }
   if (m_ControlVariateFactor == AutomaticControlVariateFactor)
   {
     const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
@@ -201,6 +212,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
     this->PrepareSampling();
     DRRPointRenderer::Settings signedSettings = settings;
     signedSettings.NegativeVoxels = m_ControlVariate ? m_ControlVariate->GetNegativeVoxels() : nullptr;
+    signedSettings.VoxelChannels = m_SamplerVolume->GetVoxelChannels();
+    signedSettings.NumberOfChannels = m_SamplerVolume->GetNumberOfChannels();
     result = DRRPointRenderer::Render(
       *m_SamplerVolume, *m_Sampler, this->MakeProjection(), signedSettings, this->GetMultiThreader(), this);
     this->AddControlVariateImage(settings, result);
@@ -216,6 +229,17 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   {
     // Not computed (the coarse image traced one replicate): zero here, for Update() and Refine() alike.
     std::fill(result.StandardError.begin(), result.StandardError.end(), 0.0);
+    std::fill(result.ChannelCovariance.begin(), result.ChannelCovariance.end(), 0.0);
+  }
+  if (this->GetChannelLabels().size() == 1)
+  {
+    // One channel is the image itself.
+    result.ChannelLineIntegral = result.LineIntegral;
+    result.ChannelCovariance.resize(result.StandardError.size());
+    std::transform(result.StandardError.begin(),
+                   result.StandardError.end(),
+                   result.ChannelCovariance.begin(),
+                   [](double se) { return se * se; });
   }
   m_TotalMass = result.RoomMass;
   return result;
@@ -228,6 +252,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
   DRRPointRenderer::Settings settings = this->MakeSettings(m_NumberOfSamples, 0);
   this->PrepareSampling();
   settings.NegativeVoxels = m_ControlVariate ? m_ControlVariate->GetNegativeVoxels() : nullptr;
+  settings.VoxelChannels = m_SamplerVolume->GetVoxelChannels();
+  settings.NumberOfChannels = m_SamplerVolume->GetNumberOfChannels();
   // Everything the points depend on; the pose (transform, geometry), the splat and the weighting are not in it.
   const std::vector<ModifiedTimeType> key{ m_SamplerVolumeTime,
                                            m_SamplerTime,
@@ -268,12 +294,23 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
     m_WeightedEstimateSum[p] = n * result.LineIntegral[p];
     m_WeightedVarianceSum[p] = n * n * result.StandardError[p] * result.StandardError[p];
   }
+  m_WeightedChannelSum.resize(result.ChannelLineIntegral.size());
+  m_WeightedChannelCovarianceSum.resize(result.ChannelCovariance.size());
+  for (size_t i = 0; i < m_WeightedChannelSum.size(); ++i)
+  {
+    m_WeightedChannelSum[i] = n * result.ChannelLineIntegral[i];
+  }
+  for (size_t i = 0; i < m_WeightedChannelCovarianceSum.size(); ++i)
+  {
+    m_WeightedChannelCovarianceSum[i] = n * n * result.ChannelCovariance[i];
+  }
   m_TotalNumberOfSamples = m_NumberOfSamples;
   m_NumberOfPasses = 1;
   m_PointsOnDetector = result.PointsOnDetector;
   m_RenderedTime = this->GetMTime();
   m_RenderedInputTime = this->GetInput()->GetMTime();
   this->WriteOutputs(result.LineIntegral, &result.StandardError);
+  this->WriteChannelOutputs(result.ChannelLineIntegral, &result.ChannelCovariance);
   this->UpdateProgress(1.0f);
 }
 
@@ -306,8 +343,24 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::Refine(uint64_t additionalS
     standardError[p] = std::sqrt(m_WeightedVarianceSum[p]) / total;
   }
   this->WriteOutputs(estimate, &standardError);
+  // The channels combine as the image does: sum n_k L_k / sum n_k, and the covariance sum n_k^2 C_k / (sum n_k)^2.
+  std::vector<double> channels(m_WeightedChannelSum.size());
+  std::vector<double> covariance(m_WeightedChannelCovarianceSum.size());
+  for (size_t i = 0; i < channels.size(); ++i)
+  {
+    m_WeightedChannelSum[i] += n * result.ChannelLineIntegral[i];
+    channels[i] = m_WeightedChannelSum[i] / total;
+  }
+  for (size_t i = 0; i < covariance.size(); ++i)
+  {
+    m_WeightedChannelCovarianceSum[i] += n * n * result.ChannelCovariance[i];
+    covariance[i] = m_WeightedChannelCovarianceSum[i] / (total * total);
+  }
+  this->WriteChannelOutputs(channels, &covariance);
   this->GetOutput(0)->Modified();
   this->GetOutput(1)->Modified();
+  this->GetChannelOutput()->Modified();
+  this->GetChannelCovarianceOutput()->Modified();
   this->UpdateProgress(1.0f);
 }
 

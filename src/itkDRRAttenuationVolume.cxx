@@ -44,6 +44,94 @@ DRRAttenuationVolume::Reset(const SizeType & size)
   m_LevelVoxels.reset();
   m_SmallestPositiveMu = 0.0f;
   m_LargestMu = 0.0f;
+  m_VoxelChannels.clear();
+  m_NumberOfChannels = 1;
+  this->Modified();
+}
+
+void
+DRRAttenuationVolume::ApplyVoxelMask(const uint8_t * keep, MultiThreaderBase * threader)
+{
+  float smallest = std::numeric_limits<float>::max();
+  float largest = 0.0f;
+  if (this->HasLevels())
+  {
+    // Each level's list, compacted in place: its voxels stay in increasing order; empty levels are dropped.
+    uint32_t *            voxels = m_LevelVoxels.get();
+    std::vector<float>    levelMu;
+    std::vector<uint64_t> levelStart{ 0 };
+    uint64_t              next = 0;
+    for (size_t l = 0; l < m_LevelMu.size(); ++l)
+    {
+      for (uint64_t e = m_LevelStart[l]; e < m_LevelStart[l + 1]; ++e)
+      {
+        voxels[next] = voxels[e];
+        next += keep[voxels[e]] != 0 ? 1 : 0;
+      }
+      if (next > levelStart.back())
+      {
+        levelMu.push_back(m_LevelMu[l]);
+        levelStart.push_back(next);
+        smallest = std::min(smallest, m_LevelMu[l]);
+        largest = std::max(largest, m_LevelMu[l]);
+      }
+    }
+    m_LevelMu = std::move(levelMu);
+    m_LevelStart = std::move(levelStart);
+    // mu is materialized again from the levels when asked for.
+    m_Mu.reset();
+    m_MuReady.store(false, std::memory_order_release);
+  }
+  else
+  {
+    float *            mu = m_Mu.get();
+    const uint64_t     numberOfBlocks = this->GetNumberOfBlocks();
+    std::vector<float> blockSmallest(numberOfBlocks, std::numeric_limits<float>::max());
+    std::vector<float> blockLargest(numberOfBlocks, 0.0f);
+    ParallelizeBlocks(
+      numberOfBlocks,
+      [&](uint64_t b) {
+        const uint64_t end = this->GetBlockBegin(b + 1);
+        for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+        {
+          mu[v] = keep[v] != 0 ? mu[v] : 0.0f;
+          blockSmallest[b] = std::min(blockSmallest[b], mu[v] > 0.0f ? mu[v] : std::numeric_limits<float>::max());
+          blockLargest[b] = std::max(blockLargest[b], mu[v]);
+        }
+      },
+      threader);
+    smallest = *std::min_element(blockSmallest.begin(), blockSmallest.end());
+    largest = *std::max_element(blockLargest.begin(), blockLargest.end());
+  }
+  m_SmallestPositiveMu = largest > 0.0f ? smallest : 0.0f;
+  m_LargestMu = largest;
+  this->Modified();
+}
+
+void
+DRRAttenuationVolume::SetVoxelChannels(std::vector<uint8_t> channels, unsigned int numberOfChannels)
+{
+  if (channels.empty() && numberOfChannels == 1)
+  {
+    m_VoxelChannels.clear();
+    m_NumberOfChannels = 1;
+    this->Modified();
+    return;
+  }
+  if (numberOfChannels < 2 || numberOfChannels > 256 || channels.size() != this->GetNumberOfVoxels())
+  {
+    itkExceptionMacro("voxel channels need one channel per voxel ("
+                      << this->GetNumberOfVoxels() << ", not " << channels.size() << ") and 2 to 256 channels, not "
+                      << numberOfChannels);
+  }
+  const auto beyond = std::find_if(channels.begin(), channels.end(), [&](uint8_t c) { return c >= numberOfChannels; });
+  if (beyond != channels.end())
+  {
+    itkExceptionMacro("voxel " << beyond - channels.begin() << " has channel " << int(*beyond) << " of "
+                               << numberOfChannels);
+  }
+  m_VoxelChannels = std::move(channels);
+  m_NumberOfChannels = numberOfChannels;
   this->Modified();
 }
 
@@ -300,5 +388,6 @@ DRRAttenuationVolume::PrintSelf(std::ostream & os, Indent indent) const
   {
     os << indent << "Levels: none (mu per voxel)" << std::endl;
   }
+  os << indent << "NumberOfChannels: " << m_NumberOfChannels << std::endl;
 }
 } // namespace itk

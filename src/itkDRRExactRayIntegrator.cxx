@@ -56,7 +56,10 @@ DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume
 }
 
 double
-DRRExactRayIntegrator::Trilinear(const int64_t corner[3], const double fraction[3]) const
+DRRExactRayIntegrator::Trilinear(const int64_t corner[3],
+                                 const double  fraction[3],
+                                 double *      channels,
+                                 double        channelScale) const
 {
   double value = 0.0;
   for (unsigned int c = 0; c < 8; ++c)
@@ -66,30 +69,43 @@ DRRExactRayIntegrator::Trilinear(const int64_t corner[3], const double fraction[
     const unsigned int dz = (c >> 2) & 1u;
     const double       w = (dx ? fraction[0] : 1.0 - fraction[0]) * (dy ? fraction[1] : 1.0 - fraction[1]) *
                      (dz ? fraction[2] : 1.0 - fraction[2]);
-    value += w * m_Volume.GetMuOrZero(corner[0] + dx, corner[1] + dy, corner[2] + dz);
+    const double term = w * m_Volume.GetMuOrZero(corner[0] + dx, corner[1] + dy, corner[2] + dz);
+    value += term;
+    if (channels && term != 0.0)
+    {
+      // A term is nonzero only inside the grid.
+      const uint64_t voxel = static_cast<uint64_t>(corner[0] + dx) +
+                             m_Volume.GetSize()[0] * (static_cast<uint64_t>(corner[1] + dy) +
+                                                      m_Volume.GetSize()[1] * static_cast<uint64_t>(corner[2] + dz));
+      channels[m_Volume.GetVoxelChannels()[voxel]] += channelScale * term;
+    }
   }
   return value;
 }
 
+template <bool VChannels>
 double
 DRRExactRayIntegrator::TraverseBox(const int64_t cell[3],
                                    const int64_t step[3],
                                    const double  tNext[3],
                                    const double  tDelta[3],
                                    double        tEnter,
-                                   double        tExit) const
+                                   double        tExit,
+                                   double *      channels,
+                                   double        channelScale) const
 {
   // The traversal of IntegrateSegment(), specialised for the box model: the cursors live in scalars (an
   // array indexed by the axis goes through memory at every step), the voxel's offset is updated by a stride, and each
   // axis counts the planes left before the grid's end instead of testing the cell against both bounds. The same
   // operations in the same order on the same values: the same bits as the general loop.
-  const int64_t nx = static_cast<int64_t>(m_Volume.GetSize()[0]);
-  const int64_t nxy = nx * static_cast<int64_t>(m_Volume.GetSize()[1]);
-  const float * mu = m_Volume.GetMuBuffer();
-  int64_t       voxel = cell[0] + nx * cell[1] + nxy * cell[2]; // the last step may leave the grid: never read then
-  const int64_t stride0 = step[0];
-  const int64_t stride1 = step[1] * nx;
-  const int64_t stride2 = step[2] * nxy;
+  const int64_t   nx = static_cast<int64_t>(m_Volume.GetSize()[0]);
+  const int64_t   nxy = nx * static_cast<int64_t>(m_Volume.GetSize()[1]);
+  const float *   mu = m_Volume.GetMuBuffer();
+  const uint8_t * voxelChannels = m_Volume.GetVoxelChannels();
+  int64_t         voxel = cell[0] + nx * cell[1] + nxy * cell[2]; // the last step may leave the grid: never read then
+  const int64_t   stride0 = step[0];
+  const int64_t   stride1 = step[1] * nx;
+  const int64_t   stride2 = step[2] * nxy;
   // Planes left along each axis before the ray leaves the grid (an axis the ray does not cross is never chosen).
   int64_t left0 = step[0] > 0 ? m_NumberOfCells[0] - cell[0] : cell[0] + 1;
   int64_t left1 = step[1] > 0 ? m_NumberOfCells[1] - cell[1] : cell[1] + 1;
@@ -104,6 +120,10 @@ DRRExactRayIntegrator::TraverseBox(const int64_t cell[3],
     if (tEnd > t)
     {
       integral += (tEnd - t) * mu[voxel];
+      if (VChannels)
+      {
+        channels[voxelChannels[voxel]] += channelScale * ((tEnd - t) * mu[voxel]);
+      }
     }
     t = tEnd;
     if (axis == 0)
@@ -138,8 +158,15 @@ DRRExactRayIntegrator::TraverseBox(const int64_t cell[3],
 }
 
 double
-DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) const
+DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
+                                        const double p1[3],
+                                        double *     channels,
+                                        double       channelScale) const
 {
+  if (channels && !m_Volume.GetVoxelChannels())
+  {
+    itkGenericExceptionMacro("DRRExactRayIntegrator: channel integrals asked of a volume without channels");
+  }
   double d[3];
   double tEnter = 0.0;
   double tExit = 1.0;
@@ -201,7 +228,8 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) 
 
   if (m_Siddon)
   {
-    return this->TraverseBox(cell, step, tNext, tDelta, tEnter, tExit);
+    return channels ? this->TraverseBox<true>(cell, step, tNext, tDelta, tEnter, tExit, channels, channelScale)
+                    : this->TraverseBox<false>(cell, step, tNext, tDelta, tEnter, tExit, nullptr, 0.0);
   }
   const double gaussOffset = 0.5 / std::sqrt(3.0);
   double       integral = 0.0;
@@ -227,7 +255,7 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3], const double p1[3]) 
         {
           fraction[a] = std::min(std::max(p0[a] + node * d[a] - static_cast<double>(corner[a]), 0.0), 1.0);
         }
-        integral += 0.5 * length * this->Trilinear(corner, fraction);
+        integral += 0.5 * length * this->Trilinear(corner, fraction, channels, channelScale * 0.5 * length);
       }
     }
     t = tEnd;
@@ -297,19 +325,23 @@ DRRExactRayIntegrator::ComputeRaySegment(const DRRPointProjection & projection,
 }
 
 double
-DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection, double column, double row) const
+DRRExactRayIntegrator::IntegrateRay(const DRRPointProjection & projection,
+                                    double                     column,
+                                    double                     row,
+                                    double *                   channels) const
 {
   double       p0[3];
   double       p1[3];
   const double length = this->ComputeRaySegment(projection, column, row, p0, p1);
-  return length * this->IntegrateSegment(p0, p1);
+  return length * this->IntegrateSegment(p0, p1, channels, length);
 }
 
 std::vector<double>
 DRRExactRayIntegrator::RenderProjection(const DRRPointProjection & projection,
                                         unsigned int               raysPerSide,
                                         MultiThreaderBase *        threader,
-                                        ProcessObject *            progressFilter) const
+                                        ProcessObject *            progressFilter,
+                                        std::vector<double> *      channelImage) const
 {
   if (raysPerSide == 0)
   {
@@ -318,25 +350,36 @@ DRRExactRayIntegrator::RenderProjection(const DRRPointProjection & projection,
   const unsigned int  columns = projection.GetNumberOfColumns();
   const unsigned int  rows = projection.GetNumberOfRows();
   std::vector<double> image(static_cast<size_t>(columns) * rows, 0.0);
-  const double        inverseRays = 1.0 / static_cast<double>(raysPerSide);
-  const double        inverseRayCount = inverseRays * inverseRays;
+  const size_t        K = m_Volume.GetVoxelChannels() && channelImage ? m_Volume.GetNumberOfChannels() : 0;
+  if (channelImage)
+  {
+    channelImage->assign(image.size() * K, 0.0);
+  }
+  const double inverseRays = 1.0 / static_cast<double>(raysPerSide);
+  const double inverseRayCount = inverseRays * inverseRays;
   DRRWorkScheduler::Run(
     threader,
     rows,
     [&](unsigned int, uint64_t row) {
       for (unsigned int column = 0; column < columns; ++column)
       {
-        double sum = 0.0;
+        const size_t pixel = static_cast<size_t>(row) * columns + column;
+        double *     channels = K > 0 ? channelImage->data() + pixel * K : nullptr;
+        double       sum = 0.0;
         for (unsigned int sv = 0; sv < raysPerSide; ++sv)
         {
           const double r = static_cast<double>(row) + (sv + 0.5) * inverseRays - 0.5;
           for (unsigned int su = 0; su < raysPerSide; ++su)
           {
             const double c = static_cast<double>(column) + (su + 0.5) * inverseRays - 0.5;
-            sum += this->IntegrateRay(projection, c, r);
+            sum += this->IntegrateRay(projection, c, r, channels);
           }
         }
-        image[static_cast<size_t>(row) * columns + column] = sum * inverseRayCount;
+        image[pixel] = sum * inverseRayCount;
+        for (size_t k = 0; k < K; ++k)
+        {
+          channels[k] *= inverseRayCount;
+        }
       }
     },
     progressFilter);

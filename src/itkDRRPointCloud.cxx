@@ -26,11 +26,16 @@ DRRPointCloud::Allocate(uint64_t numberOfPoints, bool withWeights, bool withStra
   {
     itkExceptionMacro("a point cloud holds at most 256 strata, not " << description.NumberOfStrata);
   }
+  if (description.NumberOfChannels == 0 || description.NumberOfChannels > 256)
+  {
+    itkExceptionMacro("a point cloud holds 1 to 256 channels, not " << description.NumberOfChannels);
+  }
   m_X.resize(numberOfPoints);
   m_Y.resize(numberOfPoints);
   m_Z.resize(numberOfPoints);
   m_Weight.resize(withWeights ? numberOfPoints : 0);
   m_Stratum.resize(withStrata ? numberOfPoints : 0);
+  m_Channel.resize(description.NumberOfChannels > 1 ? numberOfPoints : 0);
   m_Description = description;
   this->Modified();
 }
@@ -38,7 +43,7 @@ DRRPointCloud::Allocate(uint64_t numberOfPoints, bool withWeights, bool withStra
 size_t
 DRRPointCloud::GetSizeInBytes() const
 {
-  return (m_X.size() + m_Y.size() + m_Z.size() + m_Weight.size()) * sizeof(float) + m_Stratum.size();
+  return (m_X.size() + m_Y.size() + m_Z.size() + m_Weight.size()) * sizeof(float) + m_Stratum.size() + m_Channel.size();
 }
 
 double
@@ -54,6 +59,7 @@ DRRPointCloud::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "NumberOfPoints: " << this->GetNumberOfPoints() << std::endl;
   os << indent << "BytesPerPoint: " << this->GetBytesPerPoint() << std::endl;
   os << indent << "NumberOfStrata: " << m_Description.NumberOfStrata << std::endl;
+  os << indent << "NumberOfChannels: " << m_Description.NumberOfChannels << std::endl;
   os << indent << "SampledMass (mm^2): " << m_Description.SampledMass << std::endl;
   os << indent << "Kernel: " << m_Description.Kernel << std::endl;
   os << indent << "Seed: " << m_Description.Seed << std::endl;

@@ -86,6 +86,19 @@ public:
     }
   }
 
+  /** The channel of the voxel of each of the count points of a batch (DRRPointRenderer::Settings::VoxelChannels). */
+  template <typename TChannel>
+  void
+  VoxelChannels(uint64_t count, const Batch & batch, const uint8_t * voxelChannels, TChannel * channel) const
+  {
+    const uint64_t nx = m_Plan.GetVolumeSize()[0];
+    const uint64_t nxy = nx * m_Plan.GetVolumeSize()[1];
+    for (uint64_t s = 0; s < count; ++s)
+    {
+      channel[s] = static_cast<TChannel>(voxelChannels[batch.I[s] + nx * batch.J[s] + nxy * batch.K[s]]);
+    }
+  }
+
 private:
   /** The voxels (and weights, strata, jitter) of a batch: the sampler's one coordinate path. */
   void

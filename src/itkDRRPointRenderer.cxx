@@ -38,8 +38,11 @@ template <typename TKernel, typename TSplat>
 class DrawAndSplatChunks : public ChunkWorkBase
 {
 public:
-  DrawAndSplatChunks(const PointDrawer<TKernel> & drawer, const PointSplatter<TSplat> & splatter)
-    : m_Drawer(drawer), m_Splatter(splatter)
+  DrawAndSplatChunks(const PointDrawer<TKernel> &  drawer,
+                     const PointSplatter<TSplat> & splatter,
+                     const uint8_t *               voxelChannels,
+                     unsigned int                  numberOfChannels)
+    : m_Drawer(drawer), m_Splatter(splatter), m_VoxelChannels(voxelChannels), m_NumberOfChannels(numberOfChannels)
   {}
   void
   Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
@@ -55,22 +58,35 @@ private:
     {
       worker.Scratch.reset(new Batch);
     }
-    Batch & batch = *worker.Scratch;
+    Batch &        batch = *worker.Scratch;
+    const uint32_t channels = m_NumberOfChannels;
     m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t, uint64_t count) {
+      const uint32_t * slot = batch.Stratum;
+      if (channels > 1)
+      {
+        m_Drawer.VoxelChannels(count, batch, m_VoxelChannels, batch.Splat.Slot);
+        for (uint64_t s = 0; s < count; ++s)
+        {
+          batch.Splat.Slot[s] += batch.Stratum[s] * channels;
+        }
+        slot = batch.Splat.Slot;
+      }
       m_Splatter.ProjectAndSplat(count,
                                  batch.X,
                                  batch.Y,
                                  batch.Z,
                                  batch.Weight,
-                                 batch.Stratum,
+                                 slot,
                                  batch.Splat,
-                                 strata.GetNumberOfStrata(),
+                                 strata.GetNumberOfStrata() * channels,
                                  worker.Sums);
     });
   }
 
   const PointDrawer<TKernel> &  m_Drawer;
   const PointSplatter<TSplat> & m_Splatter;
+  const uint8_t *               m_VoxelChannels;
+  const unsigned int            m_NumberOfChannels;
 };
 
 /** Draws points into a cloud (no sums). */
@@ -78,7 +94,9 @@ template <typename TKernel>
 class DrawChunksIntoCloud : public ChunkWorkBase
 {
 public:
-  DrawChunksIntoCloud(const PointDrawer<TKernel> & drawer, DRRPointCloud & cloud) : m_Drawer(drawer), m_Cloud(cloud) {}
+  DrawChunksIntoCloud(const PointDrawer<TKernel> & drawer, DRRPointCloud & cloud, const uint8_t * voxelChannels)
+    : m_Drawer(drawer), m_Cloud(cloud), m_VoxelChannels(voxelChannels)
+  {}
   void
   Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
   {
@@ -92,6 +110,7 @@ public:
     float *   z = m_Cloud.GetZ();
     float *   weights = m_Cloud.GetWeights();
     uint8_t * stratum = m_Cloud.GetStrata();
+    uint8_t * channel = m_Cloud.GetChannels();
     m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t first, uint64_t count) {
       for (uint64_t s = 0; s < count; ++s)
       {
@@ -107,12 +126,17 @@ public:
       {
         std::transform(batch.Stratum, batch.Stratum + count, stratum + first, [](uint32_t r) { return uint8_t(r); });
       }
+      if (channel)
+      {
+        m_Drawer.VoxelChannels(count, batch, m_VoxelChannels, channel + first);
+      }
     });
   }
 
 private:
   const PointDrawer<TKernel> & m_Drawer;
   DRRPointCloud &              m_Cloud;
+  const uint8_t *              m_VoxelChannels;
 };
 
 /** A render of the points of a cloud. */
@@ -141,21 +165,37 @@ private:
     const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
     const float *   weights = m_Cloud.GetWeights();
     const uint8_t * stratum = m_Cloud.GetStrata();
+    const uint8_t * channel = m_Cloud.GetChannels();
+    const uint32_t  channels = m_Cloud.GetDescription().NumberOfChannels;
     // Absent weights and strata read as a batch of ones and of zeros: one loop for every cloud.
     static const std::vector<float>   ones(samplesPerBatch, 1.0f);
     static const std::vector<uint8_t> zeros(samplesPerBatch, 0);
     for (uint64_t first = chunk * DRRPointRenderer::SamplesPerChunk; first < end; first += samplesPerBatch)
     {
       const uint64_t count = std::min(samplesPerBatch, end - first);
-      m_Splatter.ProjectAndSplat(count,
-                                 m_Cloud.GetX() + first,
-                                 m_Cloud.GetY() + first,
-                                 m_Cloud.GetZ() + first,
-                                 weights ? weights + first : ones.data(),
-                                 stratum ? stratum + first : zeros.data(),
-                                 batch,
-                                 strata.GetNumberOfStrata(),
-                                 worker.Sums);
+      const auto     splat = [&](const auto * slot, uint64_t slots) {
+        m_Splatter.ProjectAndSplat(count,
+                                   m_Cloud.GetX() + first,
+                                   m_Cloud.GetY() + first,
+                                   m_Cloud.GetZ() + first,
+                                   weights ? weights + first : ones.data(),
+                                   slot,
+                                   batch,
+                                   slots,
+                                   worker.Sums);
+      };
+      const uint8_t * ownStratum = stratum ? stratum + first : zeros.data();
+      if (!channel)
+      {
+        splat(ownStratum, strata.GetNumberOfStrata());
+        continue;
+      }
+      // The slot of a point: stratum * K + channel.
+      for (uint64_t s = 0; s < count; ++s)
+      {
+        batch.Slot[s] = static_cast<uint32_t>(ownStratum[s]) * channels + channel[first + s];
+      }
+      splat(batch.Slot, strata.GetNumberOfStrata() * channels);
     }
   }
 
@@ -187,7 +227,8 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
                          ProcessObject *              progressFilter)
 {
   VerifyNumberOfSamples(settings);
-  Result result = ZeroResult(projection);
+  VerifyChannels(settings);
+  Result result = ZeroResult(projection, settings.NumberOfChannels);
   result.RoomMass = sampler.GetTotalMass() * projection.GetRoomMassScale();
   if (!(result.RoomMass > 0.0))
   {
@@ -214,18 +255,19 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
                                                projection,
                                                result);
   Workspace        workspace;
-  PrepareWorkers(workspace, strata, result.LineIntegral.size(), threader);
+  PrepareWorkers(workspace, strata, settings.NumberOfChannels, result.LineIntegral.size(), threader);
   DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
     return DRRPolicies::Splats::Visit(settings.Splat, [&](auto splat) {
       const PointDrawer<decltype(kernel)>  drawer(sampler, *plan, traits, settings.Seed, settings.NegativeVoxels);
       const PointSplatter<decltype(splat)> splatter(
         projection, fixedPoint, settings.Weighting == WeightingEnum::Unbiased);
-      const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(drawer, splatter);
+      const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(
+        drawer, splatter, settings.VoxelChannels, settings.NumberOfChannels);
       RunChunks(work, strata, workspace, threader, progressFilter);
       return 0;
     });
   });
-  Reduce(workspace, strata, fixedPoint, projection.GetPixelArea(), threader, result);
+  Reduce(workspace, strata, settings.NumberOfChannels, fixedPoint, projection.GetPixelArea(), threader, result);
   return result;
 }
 
@@ -243,6 +285,7 @@ DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
                        ProcessObject *              progressFilter)
 {
   VerifyNumberOfSamples(settings);
+  VerifyChannels(settings);
   // Every pose: the whole volume.
   const DRRPointSampler::ViewPlanConstPointer plan = sampler.MakeViewPlan(volume, nullptr, 0.0, 0.0);
   const DRRSamplerTraits                      traits = sampler.GetTraits();
@@ -257,6 +300,7 @@ DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
   ComputeKernelSupport(volume, settings.Kernel, description.SupportLower, description.SupportUpper);
   description.VolumeSize = { volume.GetSize()[0], volume.GetSize()[1], volume.GetSize()[2] };
   description.Seed = settings.Seed;
+  description.NumberOfChannels = settings.NumberOfChannels;
   auto cloud = DRRPointCloud::New();
   if (!(description.SampledMass > 0.0))
   {
@@ -268,10 +312,10 @@ DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
                   strata.GetNumberOfStrata() > 1,
                   description);
   Workspace workspace;
-  PrepareWorkers(workspace, strata, 0, threader);
+  PrepareWorkers(workspace, strata, 1, 0, threader);
   DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
     const PointDrawer<decltype(kernel)>         drawer(sampler, *plan, traits, settings.Seed, settings.NegativeVoxels);
-    const DrawChunksIntoCloud<decltype(kernel)> work(drawer, *cloud);
+    const DrawChunksIntoCloud<decltype(kernel)> work(drawer, *cloud, settings.VoxelChannels);
     RunChunks(work, strata, workspace, threader, progressFilter);
     return 0;
   });
@@ -287,7 +331,7 @@ DRRPointRenderer::Render(const DRRPointCloud & cloud,
                          Workspace *           workspace)
 {
   const DRRPointCloud::Description & description = cloud.GetDescription();
-  Result                             result = ZeroResult(projection);
+  Result                             result = ZeroResult(projection, description.NumberOfChannels);
   result.RoomMass = description.SampledMass * projection.GetRoomMassScale();
   result.SampledRoomMass = result.RoomMass;
   if (!(result.RoomMass > 0.0) || cloud.GetNumberOfPoints() == 0)
@@ -309,14 +353,14 @@ DRRPointRenderer::Render(const DRRPointCloud & cloud,
                                                result);
   Workspace        ownWorkspace;
   Workspace &      kept = workspace ? *workspace : ownWorkspace;
-  PrepareWorkers(kept, strata, result.LineIntegral.size(), threader);
+  PrepareWorkers(kept, strata, description.NumberOfChannels, result.LineIntegral.size(), threader);
   DRRPolicies::Splats::Visit(settings.Splat, [&](auto splat) {
     const PointSplatter<decltype(splat)>    splatter(projection, fixedPoint, unbiased);
     const SplatCloudChunks<decltype(splat)> work(cloud, splatter);
     RunChunks(work, strata, kept, threader, progressFilter);
     return 0;
   });
-  Reduce(kept, strata, fixedPoint, projection.GetPixelArea(), threader, result);
+  Reduce(kept, strata, description.NumberOfChannels, fixedPoint, projection.GetPixelArea(), threader, result);
   return result;
 }
 } // namespace itk

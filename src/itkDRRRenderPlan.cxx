@@ -112,14 +112,35 @@ VerifyNumberOfSamples(const DRRPointRenderer::Settings & settings)
   }
 }
 
+void
+VerifyChannels(const DRRPointRenderer::Settings & settings)
+{
+  if (settings.NumberOfChannels < 1 || settings.NumberOfChannels > 256)
+  {
+    itkGenericExceptionMacro("DRRPointRenderer: the number of channels must be 1 to 256, not "
+                             << settings.NumberOfChannels);
+  }
+  if (settings.NumberOfChannels > 1 && !settings.VoxelChannels)
+  {
+    itkGenericExceptionMacro("DRRPointRenderer: " << settings.NumberOfChannels
+                                                  << " channels need the channel of every voxel (VoxelChannels)");
+  }
+}
+
 DRRPointRenderer::Result
-ZeroResult(const DRRPointProjection & projection)
+ZeroResult(const DRRPointProjection & projection, unsigned int numberOfChannels)
 {
   const size_t numberOfPixels =
     static_cast<size_t>(projection.GetNumberOfColumns()) * static_cast<size_t>(projection.GetNumberOfRows());
   DRRPointRenderer::Result result;
   result.LineIntegral.assign(numberOfPixels, 0.0);
   result.StandardError.assign(numberOfPixels, 0.0);
+  if (numberOfChannels > 1)
+  {
+    result.NumberOfChannels = numberOfChannels;
+    result.ChannelLineIntegral.assign(numberOfPixels * numberOfChannels, 0.0);
+    result.ChannelCovariance.assign(numberOfPixels * numberOfChannels * (numberOfChannels + 1) / 2, 0.0);
+  }
   return result;
 }
 

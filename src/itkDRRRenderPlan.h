@@ -114,9 +114,13 @@ PlanFixedPoint(double                        numberOfSamples,
 void
 VerifyNumberOfSamples(const DRRPointRenderer::Settings & settings);
 
-/** A result of zeros for the projection's detector. */
+/** Throws unless settings.NumberOfChannels is 1 to 256 and, above 1, the voxels' channels are given. */
+void
+VerifyChannels(const DRRPointRenderer::Settings & settings);
+
+/** A result of zeros for the projection's detector, with zero channel images for more than one channel. */
 DRRPointRenderer::Result
-ZeroResult(const DRRPointProjection & projection);
+ZeroResult(const DRRPointProjection & projection, unsigned int numberOfChannels = 1);
 
 /** How far from its voxel centre the kernel moves a point, voxels. */
 double

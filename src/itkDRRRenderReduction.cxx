@@ -112,11 +112,89 @@ ReducePixels(const int64_t *                 total,
     standardError[p] = std::sqrt(squaredDeviations[p] / pairs);
   }
 }
+/** The line integral and covariance of K channels of n pixels from their integer sums (slot stratum * K + channel,
+ * pixel major); channelLineIntegral holds K values per pixel, channelCovariance K (K + 1) / 2 (upper triangle, row
+ * major). Each channel is reduced as a render of its own (ReducePixels()). Between channels: with one stratum, a
+ * point adds to one channel only, so sum c_m c_m' = 0 and the covariance estimate from the same sums is
+ * -L_m L_m' / (N - 1); with strata, from the spread of the strata's estimates, like a variance. */
+void
+ReduceChannels(const int64_t *         total,
+               const int64_t *         totalOfSquares,
+               size_t                  n,
+               uint64_t                numberOfStrata,
+               unsigned int            numberOfChannels,
+               const double *          stratumScale,
+               const ReduceConstants & constants,
+               double *                channelLineIntegral,
+               double *                channelCovariance)
+{
+  const unsigned int   K = numberOfChannels;
+  const size_t         pairsPerPixel = static_cast<size_t>(K) * (K + 1) / 2;
+  std::vector<double>  lineIntegral(static_cast<size_t>(K) * n); // channel major
+  std::vector<double>  standardError(n);
+  std::vector<int64_t> channelTotal(n * numberOfStrata);
+  std::vector<int64_t> channelSquares(numberOfStrata == 1 ? n : 0);
+  for (unsigned int k = 0; k < K; ++k)
+  {
+    for (size_t i = 0; i < n * numberOfStrata; ++i)
+    {
+      channelTotal[i] = total[i * K + k];
+    }
+    for (size_t p = 0; p < channelSquares.size(); ++p)
+    {
+      channelSquares[p] = totalOfSquares[p * K + k];
+    }
+    double * own = lineIntegral.data() + k * n;
+    ReducePixels(channelTotal.data(),
+                 channelSquares.data(),
+                 n,
+                 numberOfStrata,
+                 stratumScale,
+                 constants,
+                 own,
+                 standardError.data());
+    for (size_t p = 0; p < n; ++p)
+    {
+      channelLineIntegral[p * K + k] = own[p];
+      // The diagonal entry of channel k: (k, k) is entry k K - k (k - 1) / 2 of the row-major upper triangle.
+      channelCovariance[p * pairsPerPixel + k * K - k * (k - 1) / 2] = standardError[p] * standardError[p];
+    }
+  }
+  const double N = constants.N;
+  for (size_t p = 0; p < n; ++p)
+  {
+    size_t entry = p * pairsPerPixel;
+    for (unsigned int m = 0; m < K; ++m)
+    {
+      ++entry; // (m, m), written above
+      for (unsigned int m2 = m + 1; m2 < K; ++m2, ++entry)
+      {
+        const double Lm = lineIntegral[m * n + p];
+        const double Lm2 = lineIntegral[m2 * n + p];
+        if (numberOfStrata == 1)
+        {
+          channelCovariance[entry] = N > 1.0 ? -Lm * Lm2 / (N - 1.0) : 0.0;
+          continue;
+        }
+        double sum = 0.0;
+        for (uint64_t r = 0; r < numberOfStrata; ++r)
+        {
+          const double scale = stratumScale[r] * constants.InverseSumScale;
+          const double em = scale * static_cast<double>(total[(p * numberOfStrata + r) * K + m]);
+          const double em2 = scale * static_cast<double>(total[(p * numberOfStrata + r) * K + m2]);
+          sum += (em - Lm) * (em2 - Lm2);
+        }
+        channelCovariance[entry] = sum / (numberOfStrata * (numberOfStrata - 1.0));
+      }
+    }
+  }
+}
 } // namespace
 
 void
 Reduce(DRRPointRenderer::Workspace & workspace,
        const Strata &                strata,
+       unsigned int                  numberOfChannels,
        const FixedPoint &            fixedPoint,
        double                        pixelArea,
        MultiThreaderBase *           threader,
@@ -135,21 +213,55 @@ Reduce(DRRPointRenderer::Workspace & workspace,
   }
   const ReduceConstants constants{ N, valueScale, inverseSumScale, inverseSquareScale };
   const size_t          numberOfPixels = result.LineIntegral.size();
+  const size_t          K = numberOfChannels;
+  const size_t          slots = numberOfStrata * K;
   const auto            reduceBlock = [&](size_t firstPixel, size_t endPixel) {
     // First the workers' sums of the block, added (and cleared) in one pass over contiguous memory, then the pixels.
-    std::vector<int64_t> total((endPixel - firstPixel) * numberOfStrata, 0);
-    std::vector<int64_t> totalOfSquares(numberOfStrata == 1 ? endPixel - firstPixel : 0, 0);
+    const size_t         n = endPixel - firstPixel;
+    std::vector<int64_t> total(n * slots, 0);
+    std::vector<int64_t> totalOfSquares(numberOfStrata == 1 ? n * K : 0, 0);
     for (Worker & worker : workers)
     {
-      AddAndClear(worker.Sums.Sum.data() + firstPixel * numberOfStrata, total.data(), total.size());
+      AddAndClear(worker.Sums.Sum.data() + firstPixel * slots, total.data(), total.size());
       if (numberOfStrata == 1)
       {
-        AddAndClear(worker.Sums.SumOfSquares.data() + firstPixel, totalOfSquares.data(), totalOfSquares.size());
+        AddAndClear(worker.Sums.SumOfSquares.data() + firstPixel * K, totalOfSquares.data(), totalOfSquares.size());
+      }
+    }
+    if (K > 1)
+    {
+      ReduceChannels(total.data(),
+                     totalOfSquares.data(),
+                     n,
+                     numberOfStrata,
+                     numberOfChannels,
+                     stratumScale.data(),
+                     constants,
+                     result.ChannelLineIntegral.data() + firstPixel * K,
+                     result.ChannelCovariance.data() + firstPixel * K * (K + 1) / 2);
+      // The image: the channels' integer sums added, the same integers as a render without channels.
+      for (size_t i = 0; i < n * numberOfStrata; ++i)
+      {
+        int64_t sum = 0;
+        for (size_t k = 0; k < K; ++k)
+        {
+          sum += total[i * K + k];
+        }
+        total[i] = sum;
+      }
+      for (size_t p = 0; p < totalOfSquares.size() / K; ++p)
+      {
+        int64_t sum = 0;
+        for (size_t k = 0; k < K; ++k)
+        {
+          sum += totalOfSquares[p * K + k];
+        }
+        totalOfSquares[p] = sum;
       }
     }
     ReducePixels(total.data(),
                  totalOfSquares.data(),
-                 endPixel - firstPixel,
+                 n,
                  numberOfStrata,
                  stratumScale.data(),
                  constants,
@@ -173,13 +285,14 @@ Reduce(DRRPointRenderer::Workspace & workspace,
     reduceBlock(0, numberOfPixels);
   }
   result.NumberOfStrata = numberOfStrata;
+  result.NumberOfChannels = numberOfChannels > 1 ? numberOfChannels : 0;
   result.NumberOfSamples = strata.GetNumberOfSamples();
   for (Worker & worker : workers)
   {
     result.PointsOnDetector += worker.Sums.PointsOnDetector;
     // The trash slots, past the pixels.
-    std::fill(worker.Sums.Sum.begin() + numberOfPixels * numberOfStrata, worker.Sums.Sum.end(), 0);
-    std::fill(worker.Sums.SumOfSquares.begin() + std::min(numberOfPixels, worker.Sums.SumOfSquares.size()),
+    std::fill(worker.Sums.Sum.begin() + numberOfPixels * slots, worker.Sums.Sum.end(), 0);
+    std::fill(worker.Sums.SumOfSquares.begin() + std::min(numberOfPixels * K, worker.Sums.SumOfSquares.size()),
               worker.Sums.SumOfSquares.end(),
               0);
   }

@@ -29,10 +29,13 @@ namespace DRRRendering
 /** Integer reduction of the workers' sums into the line integrals and their standard errors of result (sized, with
  * SampledRoomMass set): exact, hence independent of the order and of the worker that held each chunk. Blocks of
  * pixels in parallel (each pixel on its own: the same bits on any number of threads); each sum is cleared as it is
- * read, for the workspace's next render. pixelArea: mm^2. */
+ * read, for the workspace's next render. pixelArea: mm^2. With more than one channel, also each channel's line
+ * integral and the channels' covariance (result sized by ZeroResult()); the image is then reduced from the channels'
+ * integer sums added, the same integers as without channels. */
 void
 Reduce(DRRPointRenderer::Workspace & workspace,
        const Strata &                strata,
+       unsigned int                  numberOfChannels,
        const FixedPoint &            fixedPoint,
        double                        pixelArea,
        MultiThreaderBase *           threader,

@@ -27,21 +27,24 @@ namespace DRRRendering
 void
 PrepareWorkers(DRRPointRenderer::Workspace & workspace,
                const Strata &                strata,
+               unsigned int                  numberOfChannels,
                size_t                        numberOfPixels,
                MultiThreaderBase *           threader)
 {
-  // Past the pixels' sums, one trash slot per stratum, where corners off the detector add their 0 (see
+  // Past the pixels' sums, one trash slot per stratum and channel, where corners off the detector add their 0 (see
   // PointSplatter::ProjectAndSplat()).
-  const size_t sumSize = (numberOfPixels + 1) * strata.GetNumberOfStrata();
-  // The splatter addresses the sums with 32-bit indices (pixel * strata + stratum): half the index width keeps the
+  const size_t slots = strata.GetNumberOfStrata() * numberOfChannels;
+  const size_t sumSize = (numberOfPixels + 1) * slots;
+  // The splatter addresses the sums with 32-bit indices (pixel * slots + slot): half the index width keeps the
   // scatter loops vectorized. Refuse, rather than wrap around, a detector whose sums do not fit.
   if (sumSize > static_cast<size_t>(std::numeric_limits<int32_t>::max()))
   {
     itkGenericExceptionMacro("DRRPointRenderer: " << numberOfPixels << " pixels x " << strata.GetNumberOfStrata()
-                                                  << " strata is more sums than a render can address (2^31); use fewer "
-                                                     "pixels or strata");
+                                                  << " strata x " << numberOfChannels
+                                                  << " channels is more sums than a render can address (2^31); use "
+                                                     "fewer pixels, strata or channels");
   }
-  const size_t squareSize = strata.GetNumberOfStrata() == 1 ? numberOfPixels + 1 : 0;
+  const size_t squareSize = strata.GetNumberOfStrata() == 1 ? sumSize : 0;
   workspace.Workers.resize(DRRWorkScheduler::GetNumberOfWorkers(threader, strata.GetNumberOfChunks()));
   for (Worker & worker : workspace.Workers)
   {

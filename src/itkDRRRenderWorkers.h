@@ -34,8 +34,9 @@ namespace DRRRendering
 constexpr uint64_t     samplesPerBatch = 512;
 constexpr unsigned int maximumCorners = 4; // pixels one point can reach (bilinear splat)
 
-/** Integer fixed-point accumulators of one worker: per pixel the sum of contributions of every stratum (pixel major:
- * the strata of a pixel share a cache line), and, with a single stratum, the sum of their squares. */
+/** Integer fixed-point accumulators of one worker: per pixel the sum of contributions of every slot, a slot being a
+ * stratum and channel, stratum * K + channel (pixel major: the slots of a pixel share a cache line), and, with a single
+ * stratum, the sum of their squares per channel. */
 struct Accumulator
 {
   std::vector<int64_t> Sum;
@@ -49,11 +50,12 @@ struct Accumulator
 template <typename TReal>
 struct SplatBatch
 {
-  TReal   Column[samplesPerBatch], Row[samplesPerBatch], Perspective[samplesPerBatch];
-  int32_t Index[maximumCorners * samplesPerBatch]; // into the sums: pixel * strata + stratum, or the trash slot
-  int64_t Value[maximumCorners * samplesPerBatch]; // fixed point
-  int64_t Square[maximumCorners * samplesPerBatch];
-  int32_t Stratum[samplesPerBatch];
+  TReal    Column[samplesPerBatch], Row[samplesPerBatch], Perspective[samplesPerBatch];
+  int32_t  Index[maximumCorners * samplesPerBatch]; // into the sums: pixel * strata + stratum, or the trash slot
+  int64_t  Value[maximumCorners * samplesPerBatch]; // fixed point
+  int64_t  Square[maximumCorners * samplesPerBatch];
+  int32_t  Stratum[samplesPerBatch];
+  uint32_t Slot[samplesPerBatch]; // stratum * K + channel of every point, with K > 1 channels
 };
 
 /** One batch of drawn points, structure of arrays, so that the placement and projection loops vectorize. */
@@ -102,11 +104,12 @@ public:
 
 namespace DRRRendering
 {
-/** Gives the workspace one worker per thread, whose sums (of numberOfPixels pixels, or none, and the trash slots)
- * are all zero; clears only what the last render did not leave cleared. */
+/** Gives the workspace one worker per thread, whose sums (of numberOfPixels pixels times the strata and channels, or
+ * none, and the trash slots) are all zero; clears only what the last render did not leave cleared. */
 void
 PrepareWorkers(DRRPointRenderer::Workspace & workspace,
                const Strata &                strata,
+               unsigned int                  numberOfChannels,
                size_t                        numberOfPixels,
                MultiThreaderBase *           threader);
 

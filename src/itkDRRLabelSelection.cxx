@@ -1,0 +1,140 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRLabelSelection.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace itk
+{
+namespace
+{
+constexpr size_t numberOfLabelValues = 65536;
+
+/** Throws for a listed label that no voxel has. */
+void
+VerifyPresent(const DRRLabelSelection::LabelListType & listed, const std::vector<uint8_t> & present, const char * what)
+{
+  for (const auto label : listed)
+  {
+    if (!present[label])
+    {
+      DRRLabelSelection::LabelListType all;
+      for (size_t l = 0; l < numberOfLabelValues; ++l)
+      {
+        if (present[l])
+        {
+          all.push_back(static_cast<DRRLabelSelection::LabelType>(l));
+        }
+      }
+      itkGenericExceptionMacro("the " << what << " label " << label
+                                      << " is in no voxel of the label image; its labels are "
+                                      << DRRLabelSelection::ToString(all));
+    }
+  }
+}
+} // namespace
+
+std::string
+DRRLabelSelection::ToString(const LabelListType & labels)
+{
+  std::ostringstream text;
+  for (size_t i = 0; i < labels.size(); ++i)
+  {
+    text << (i ? ", " : "") << labels[i];
+  }
+  return text.str();
+}
+
+DRRLabelSelection::LabelListType
+DRRLabelSelection::Apply(const LabelType *      labels,
+                         const LabelListType &  keptLabels,
+                         const LabelListType &  droppedLabels,
+                         bool                   channels,
+                         DRRAttenuationVolume & volume,
+                         MultiThreaderBase *    threader)
+{
+  const uint64_t       numberOfVoxels = volume.GetNumberOfVoxels();
+  std::vector<uint8_t> present(numberOfLabelValues, 0);
+  for (uint64_t v = 0; v < numberOfVoxels; ++v)
+  {
+    present[labels[v]] = 1;
+  }
+  VerifyPresent(keptLabels, present, "kept");
+  VerifyPresent(droppedLabels, present, "dropped");
+  // A label attenuates if kept (every label when none is listed) and not dropped.
+  std::vector<uint8_t> attenuates(numberOfLabelValues, keptLabels.empty() ? 1 : 0);
+  for (const auto label : keptLabels)
+  {
+    attenuates[label] = 1;
+  }
+  for (const auto label : droppedLabels)
+  {
+    attenuates[label] = 0;
+  }
+  LabelListType selected;
+  for (size_t l = 0; l < numberOfLabelValues; ++l)
+  {
+    if (present[l] && attenuates[l])
+    {
+      selected.push_back(static_cast<LabelType>(l));
+    }
+  }
+  if (selected.empty())
+  {
+    itkGenericExceptionMacro("the kept labels (" << (keptLabels.empty() ? std::string("all") : ToString(keptLabels))
+                                                 << ") minus the dropped ones (" << ToString(droppedLabels)
+                                                 << ") leave no label to render");
+  }
+  if (selected.size() < std::count(present.begin(), present.end(), uint8_t(1)))
+  {
+    std::vector<uint8_t> keep(numberOfVoxels);
+    for (uint64_t v = 0; v < numberOfVoxels; ++v)
+    {
+      keep[v] = attenuates[labels[v]];
+    }
+    volume.ApplyVoxelMask(keep.data(), threader);
+  }
+  if (!channels)
+  {
+    return {};
+  }
+  if (selected.size() > MaximumNumberOfChannels)
+  {
+    itkGenericExceptionMacro("" << selected.size() << " labels would make " << selected.size()
+                                << " channels; a render holds at most " << MaximumNumberOfChannels
+                                << ": keep fewer labels");
+  }
+  if (selected.size() > 1)
+  {
+    std::vector<uint8_t> channelOfLabel(numberOfLabelValues, 0);
+    for (size_t c = 0; c < selected.size(); ++c)
+    {
+      channelOfLabel[selected[c]] = static_cast<uint8_t>(c);
+    }
+    std::vector<uint8_t> channelOfVoxel(numberOfVoxels);
+    for (uint64_t v = 0; v < numberOfVoxels; ++v)
+    {
+      // A voxel left out is air and never drawn: its channel does not matter.
+      channelOfVoxel[v] = channelOfLabel[labels[v]];
+    }
+    volume.SetVoxelChannels(std::move(channelOfVoxel), static_cast<unsigned int>(selected.size()));
+  }
+  return selected;
+}
+} // namespace itk
