@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrApplication.h"
+#include "pbdrrLabels.h"
 #include "pbdrrBatch.h"
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
@@ -323,6 +324,7 @@ MakeRenderer(const Options & options, const VolumeType * volume)
   }
   renderer.Filter->SetInput(volume);
   renderer.Filter->SetTransferFunction(MakeTransferFunction(options));
+  ApplyLabelOptions(options, renderer.Filter);
   if (options.threads > 0)
   {
     renderer.Filter->SetNumberOfWorkUnits(options.threads);
@@ -425,6 +427,7 @@ Run(const Options & options)
   {
     CheckWritable(options.standardErrorOutput);
   }
+  CheckLabelOptions(options);
   if (options.threads > 0)
   {
     itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
@@ -500,6 +503,7 @@ Run(const Options & options)
                counted,
                pointBased && !options.standardErrorOutput.empty() ? pointBased->GetStandardErrorOutput() : nullptr,
                notes);
+  WriteLabelChannels(options, filter);
   const std::string geometryPath = WriteGeometryBeside(options.output, geometry);
   stages.emplace_back("write", SecondsSince(start));
 

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrBatch.h"
+#include "pbdrrLabels.h"
 #include "pbdrrManifest.h"
 #include "pbdrrApplication.h"
 #include "pbdrrMessages.h"
@@ -675,6 +676,12 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
 void
 RunBatch(const Options & options)
 {
+  if (!options.labelChannelsOutput.empty())
+  {
+    throw UsageError("--label-channels writes the channels of one view; a batch renders --keep-labels and "
+                     "--drop-labels, not channels");
+  }
+  CheckLabelOptions(options);
   if (!options.manifest.empty())
   {
     RunManifest(options);

@@ -27,6 +27,7 @@
 #include <cmath>
 #include <functional>
 #include <sstream>
+#include <sstream>
 #include <map>
 
 namespace pbdrr
@@ -171,6 +172,34 @@ WholeNumber(const std::string & value, const std::string & flag, double lowest, 
                      std::to_string(static_cast<long long>(highest)) + ", got '" + value + "'");
   }
   return static_cast<unsigned>(number);
+}
+
+/** "1,3,7" (--keep-labels, --drop-labels): labels from 0 to 65535, each once. */
+std::vector<uint16_t>
+ParseLabelList(const std::string & value, const std::string & flag)
+{
+  std::vector<uint16_t> labels;
+  std::stringstream     words(value);
+  std::string           word;
+  while (std::getline(words, word, ','))
+  {
+    const bool digits = !word.empty() && word.size() <= 5 && std::all_of(word.begin(), word.end(), ::isdigit);
+    if (!digits || std::stol(word) > 65535)
+    {
+      throw UsageError(flag + " expects labels from 0 to 65535 separated by commas (1,3,7), got '" + value + "'");
+    }
+    const auto label = static_cast<uint16_t>(std::stol(word));
+    if (std::count(labels.begin(), labels.end(), label))
+    {
+      throw UsageError(flag + " lists label " + word + " twice");
+    }
+    labels.push_back(label);
+  }
+  if (labels.empty() || value.back() == ',')
+  {
+    throw UsageError(flag + " expects labels from 0 to 65535 separated by commas (1,3,7), got '" + value + "'");
+  }
+  return labels;
 }
 
 /** --shard K/N: shard K (0 .. N - 1) of N. */
@@ -364,6 +393,10 @@ ParseCommandLine(const std::vector<std::string> & arguments)
           }
           options.photons = photons;
         } } },
+    { "--labels", { 1, [&](const auto & v) { options.labelsFile = v[0]; } } },
+    { "--keep-labels", { 1, [&](const auto & v) { options.keepLabels = ParseLabelList(v[0], "--keep-labels"); } } },
+    { "--drop-labels", { 1, [&](const auto & v) { options.dropLabels = ParseLabelList(v[0], "--drop-labels"); } } },
+    { "--label-channels", { 1, [&](const auto & v) { options.labelChannelsOutput = v[0]; } } },
     { "--exact", { 1, [&](const auto & v) { options.exact = ExactReferenceKernel(v[0]); } } },
     { "--ss", { 1, [&](const auto & v) { options.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } } },
     { "--angles", { 1, [&](const auto & v) { options.angles = WholeNumber(v[0], "--angles", 1, 1000000); } } },
@@ -626,6 +659,13 @@ Physics:
   --window LEVEL WIDTH   gray window in line-integral units (default: percentiles)
   --photons I0           quantum noise: each pixel counts Poisson(I0 exp(-L)) photons and reads -ln(N / I0) (no
                          photon: half a photon); I0 per pixel with nothing in the beam; counts seeded by --seed
+  --labels FILE          a label image (integers 0 to 65535, one per voxel; resampled by nearest neighbour onto the
+                         CT's grid if it is not on it)
+  --keep-labels L1,L2    only the voxels of these labels attenuate (bone only: the bone label)
+  --drop-labels L1,L2    the voxels of these labels do not attenuate (the table: its label)
+  --label-channels FILE  also write one line-integral image per attenuating label, from the same render, as one
+                         multi-component image (.mha, .nrrd, .nii); the labels in its header (PBDRR_ChannelLabels);
+                         the channels add up to OUTPUT (rendered without a control variate)
 
 Batches: many views in one run, the volume loaded once and the points drawn once for every view; view k's image
 depends only on (--seed, k), whichever run, shard or thread count renders it. The sampling options are a single

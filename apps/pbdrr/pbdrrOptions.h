@@ -84,6 +84,13 @@ struct Options
   /** --photons I0: quantum noise, I0 photons per pixel with nothing in the beam (DRRQuantumNoiseImageFilter). */
   std::optional<double> photons;
 
+  /** Labels (pbdrrLabels.h): --labels FILE, a label per voxel; --keep-labels / --drop-labels, which attenuate;
+   * --label-channels FILE, one line-integral image per label from the same render. */
+  std::string           labelsFile;
+  std::vector<uint16_t> keepLabels;
+  std::vector<uint16_t> dropLabels;
+  std::string           labelChannelsOutput;
+
   /** --exact: the kernel whose model the exact projector renders (named by the kernel's ExactReference). */
   std::optional<itk::PointBasedDRREnums::ReconstructionKernel> exact;
   unsigned                                                     raysPerSide{ 1 };

@@ -137,6 +137,31 @@ WritePhantom(const fs::path & file)
   itk::WriteImage(image, file.string());
 }
 
+/** A label image on the phantom's grid, its voxel (x, y, z) set to label(x). */
+template <typename TImage, typename TLabel>
+void
+WriteLabels(const fs::path & file, TLabel label)
+{
+  auto image = TImage::New();
+  image->SetRegions(itk::Size<3>{ { 16, 16, 12 } });
+  const double spacing[3] = { 1.0, 1.0, 1.5 };
+  const double origin[3] = { -7.5, -7.5, -8.25 };
+  image->SetSpacing(spacing);
+  image->SetOrigin(origin);
+  image->Allocate();
+  for (unsigned z = 0; z < 12; ++z)
+  {
+    for (unsigned y = 0; y < 16; ++y)
+    {
+      for (unsigned x = 0; x < 16; ++x)
+      {
+        image->SetPixel({ { x, y, z } }, static_cast<typename TImage::PixelType>(label(x)));
+      }
+    }
+  }
+  itk::WriteImage(image, file.string());
+}
+
 template <typename TImage>
 void
 WriteConstant(const fs::path & file, const typename TImage::SizeType & size, const typename TImage::PixelType & value)
@@ -569,6 +594,12 @@ main(int argc, char * argv[])
 
     // Volume files.
     WritePhantom(root / "phantom.mha");
+    // Label images on the phantom's grid: 1 on the left half, 2 on the right, 0 on the outer columns; and bad ones.
+    WriteLabels<itk::Image<unsigned char, 3>>(root / "labels.mha",
+                                              [](unsigned x) { return x == 0 || x == 15 ? 0 : 1 + x / 8; });
+    WriteLabels<itk::Image<float, 3>>(root / "labels_float.mha", [](unsigned x) { return 1.0f + x / 8; });
+    WriteLabels<itk::Image<short, 3>>(root / "labels_negative.mha", [](unsigned x) { return x == 3 ? -1 : 1; });
+    WriteConstant<itk::Image<unsigned char, 2>>(root / "labels_2d.mha", { { 16, 16 } }, 1);
     // For pbdrr register: no symmetry, so that every pose parameter shows (three bone blocks in a soft-tissue box).
     itk::WriteImage(MakeShortVolume({ { 24, 20, 16 } },
                                     { { 2.0, 2.0, 2.0 } },

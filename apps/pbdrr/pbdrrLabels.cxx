@@ -1,0 +1,134 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "pbdrrLabels.h"
+#include "pbdrrOutputFiles.h"
+
+#include "itkImageFileReader.h"
+#include "itkImageFileWriter.h"
+#include "itkImageIOFactory.h"
+#include "itkMetaDataObject.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace pbdrr
+{
+BaseFilterType::LabelImageType::Pointer
+ReadLabelImage(const std::string & path)
+{
+  const itk::ImageIOBase::Pointer io =
+    itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+  if (!io)
+  {
+    throw UsageError("--labels: cannot read " + path + " (missing, or not an image ITK reads)");
+  }
+  io->SetFileName(path);
+  io->ReadImageInformation();
+  using Component = itk::IOComponentEnum;
+  const Component type = io->GetComponentType();
+  const bool      integer = type == Component::UCHAR || type == Component::CHAR || type == Component::USHORT ||
+                       type == Component::SHORT || type == Component::UINT || type == Component::INT ||
+                       type == Component::ULONG || type == Component::LONG || type == Component::ULONGLONG ||
+                       type == Component::LONGLONG;
+  if (!integer || io->GetNumberOfComponents() != 1)
+  {
+    throw UsageError("--labels: " + path + " holds " + std::to_string(io->GetNumberOfComponents()) + " x " +
+                     itk::ImageIOBase::GetComponentTypeAsString(type) +
+                     " per voxel; a label image holds one integer per voxel");
+  }
+  if (io->GetNumberOfDimensions() != 3)
+  {
+    throw UsageError("--labels: " + path + " is " + std::to_string(io->GetNumberOfDimensions()) +
+                     "D; a label image is 3D, on the CT's grid");
+  }
+  using WideImageType = itk::Image<int64_t, 3>;
+  const auto wide = itk::ReadImage<WideImageType>(path);
+  auto       labels = BaseFilterType::LabelImageType::New();
+  labels->CopyInformation(wide);
+  labels->SetRegions(wide->GetLargestPossibleRegion());
+  labels->Allocate();
+  const size_t    n = wide->GetBufferedRegion().GetNumberOfPixels();
+  const int64_t * in = wide->GetBufferPointer();
+  for (size_t v = 0; v < n; ++v)
+  {
+    if (in[v] < 0 || in[v] > 65535)
+    {
+      throw UsageError("--labels: voxel " + std::to_string(v) + " of " + path + " has label " + std::to_string(in[v]) +
+                       "; labels are 0 to 65535");
+    }
+    labels->GetBufferPointer()[v] = static_cast<BaseFilterType::LabelPixelType>(in[v]);
+  }
+  return labels;
+}
+
+void
+CheckLabelOptions(const Options & options)
+{
+  const bool selection = !options.keepLabels.empty() || !options.dropLabels.empty();
+  if ((selection || !options.labelChannelsOutput.empty()) && options.labelsFile.empty())
+  {
+    throw UsageError("--keep-labels, --drop-labels and --label-channels need a label image (--labels FILE)");
+  }
+  if (!options.labelChannelsOutput.empty())
+  {
+    if (OutputKind(options.labelChannelsOutput) == "png")
+    {
+      throw UsageError("--label-channels needs a float format of many components (.mha, .nrrd, .nii), not .png");
+    }
+    if (!options.exact && options.controlVariateGiven && options.controlVariate != 0 &&
+        options.controlVariate != itk::DRRControlVariate::AutomaticFactor)
+    {
+      throw UsageError("--label-channels renders without a control variate (its coarse blocks mix labels): drop "
+                       "--control-variate");
+    }
+    CheckWritable(options.labelChannelsOutput);
+  }
+}
+
+void
+ApplyLabelOptions(const Options & options, BaseFilterType * filter)
+{
+  if (options.labelsFile.empty())
+  {
+    return;
+  }
+  filter->SetLabelImage(ReadLabelImage(options.labelsFile));
+  filter->SetKeptLabels(options.keepLabels);
+  filter->SetDroppedLabels(options.dropLabels);
+  filter->SetLabelChannels(!options.labelChannelsOutput.empty());
+}
+
+void
+WriteLabelChannels(const Options & options, BaseFilterType * filter)
+{
+  if (options.labelChannelsOutput.empty())
+  {
+    return;
+  }
+  BaseFilterType::ChannelImageType * channels = filter->GetChannelOutput();
+  itk::EncapsulateMetaData<std::string>(channels->GetMetaDataDictionary(),
+                                        "PBDRR_ChannelLabels",
+                                        itk::DRRLabelSelection::ToString(filter->GetChannelLabels()));
+  WriteAtomically(options.labelChannelsOutput, [&](const std::string & temporary) {
+    auto writer = itk::ImageFileWriter<BaseFilterType::ChannelImageType>::New();
+    writer->SetInput(channels);
+    writer->SetFileName(temporary);
+    writer->Update();
+  });
+}
+} // namespace pbdrr
