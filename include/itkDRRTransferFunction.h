@@ -18,6 +18,7 @@
 #ifndef itkDRRTransferFunction_h
 #define itkDRRTransferFunction_h
 
+#include "itkDRRMaterialTable.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "itkPointBasedDRREnums.h"
@@ -38,6 +39,10 @@ namespace itk
  *   directly with SetMuWaterPerMillimeter().
  * - PiecewiseLinear: user (value, mu) pairs with increasing values, linear in between, constant beyond the ends.
  * - Identity: the input already holds mu in 1/mm.
+ * - Materials (SetMaterialTable()): the table's material and density (g/cm^3) of the HU value, mu = density x
+ *   (mu/rho)_material(E_ref) / 10 (1/mm), E_ref the effective energy (keV, default 60 keV; xraylib's CS_Total_CP).
+ *   GetMaterialIndex() gives the material of a value: the channel a polychromatic render puts the voxel in
+ *   (DRRPolychromaticImageFilter).
  *
  * Voxels whose input value is below the air threshold (input units; default: none) get mu = 0 and are never
  * sampled. Every mode maps one input value to one mu, so voxels of one input level share one mu.
@@ -55,7 +60,7 @@ public:
   using Superclass = Object;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
-  /** Natural, PiecewiseLinear or Identity. */
+  /** Natural, PiecewiseLinear, Identity or Materials. */
   using ModeEnum = PointBasedDRREnums::TransferFunction;
   /** (input value, mu in 1/mm) pairs of the piecewise-linear mode. */
   using PointListType = std::vector<std::pair<double, double>>;
@@ -67,13 +72,15 @@ public:
   itkTypeMacro(DRRTransferFunction, Object);
 
   ///@{
-  /** The mode: Natural (default), PiecewiseLinear or Identity (input already mu in 1/mm). */
+  /** The mode: Natural (default), PiecewiseLinear, Identity (input already mu in 1/mm) or Materials (needs a
+   * material table: SetMaterialTable()). */
   itkSetEnumMacro(Mode, ModeEnum);
   itkGetConstMacro(Mode, ModeEnum);
   ///@}
 
   /** Effective photon energy (keV) for the natural transfer function; sets mu_water from the NIST table.
-   * Throws outside the table's 10 keV .. 1 MeV. */
+   * Throws outside the table's 10 keV .. 1 MeV. It is also E_ref, the energy of the Materials mode's mu (there it
+   * must be at most DRRMaterialTable::MaximumEnergyInKeV, 800 keV). */
   void
   SetEffectiveEnergyInKeV(double energyInKeV);
   /** Effective photon energy, keV (default 60 keV); 0 after SetMuWaterPerMillimeter() (mu_water then derives from no
@@ -111,6 +118,23 @@ public:
     return m_PiecewiseLinearPoints;
   }
 
+  /** Selects the Materials mode with this table (HU -> material, density). Throws for a null table or one that does
+   * not cover every HU (DRRMaterialTable::IsComplete()). The table is shared, not copied: changing it later changes
+   * the transfer function. */
+  void
+  SetMaterialTable(DRRMaterialTable * table);
+  /** The material table of the Materials mode (null if none was set). */
+  const DRRMaterialTable *
+  GetMaterialTable() const
+  {
+    return m_MaterialTable.GetPointer();
+  }
+
+  /** The material index of an input value (HU) in the Materials mode (DRRMaterialTable::GetMaterialIndex()); -1 in
+   * the other modes. Throws for NaN. */
+  int
+  GetMaterialIndex(double inputValue) const;
+
   ///@{
   /** Input values strictly below this (input units: HU, or 1/mm for mu input) are air: mu = 0.
    * Default: -infinity (no threshold beyond the model's own zero). */
@@ -135,6 +159,8 @@ public:
         return inputValue;
       case ModeEnum::PiecewiseLinear:
         return this->EvaluatePiecewiseLinear(inputValue);
+      case ModeEnum::Materials:
+        return this->EvaluateMaterials(inputValue);
     }
     return 0.0;
   }
@@ -153,12 +179,24 @@ protected:
 private:
   double
   EvaluatePiecewiseLinear(double inputValue) const;
+  double
+  EvaluateMaterials(double inputValue) const;
+  // Recomputes the table's mass attenuations at E_ref (m_MassAttenuationAtReference); throws as xraylib does.
+  void
+  UpdateMaterialCache();
 
   ModeEnum      m_Mode{ ModeEnum::Natural };
   double        m_EffectiveEnergyInKeV{ 60.0 };
   double        m_MuWaterPerMillimeter{ 0.02059 };
   PointListType m_PiecewiseLinearPoints;
   double        m_AirThreshold{ -std::numeric_limits<double>::infinity() };
+
+  DRRMaterialTable::Pointer m_MaterialTable;
+  // (mu/rho)_m(E_ref), cm^2/g, valid while the table's modification time is m_MaterialCacheTime and E_ref is
+  // m_MaterialCacheEnergyInKeV; otherwise Evaluate() asks the table (thread-safe, slower).
+  std::vector<double> m_MassAttenuationAtReference;
+  ModifiedTimeType    m_MaterialCacheTime{ 0 };
+  double              m_MaterialCacheEnergyInKeV{ 0.0 };
 };
 } // namespace itk
 

@@ -89,7 +89,8 @@ public:
 
   /** \brief How input voxel values become linear attenuation mu (1/mm).
    * Natural: mu = mu_water(E) * max(0, 1 + HU / 1000);
-   * PiecewiseLinear: user-given (value, mu) pairs; Identity: the input already is mu in 1/mm. */
+   * PiecewiseLinear: user-given (value, mu) pairs; Identity: the input already is mu in 1/mm;
+   * Materials: a DRRMaterialTable's material and density of the HU, at the effective energy. */
   enum class TransferFunction : uint8_t
   {
     /** mu = mu_water(E) * max(0, 1 + HU / 1000), for CT in HU (the default). */
@@ -97,7 +98,9 @@ public:
     /** Linear between user-given (value, mu) pairs. */
     PiecewiseLinear,
     /** The input is mu in 1/mm. */
-    Identity
+    Identity,
+    /** HU -> (material, density) by a DRRMaterialTable; mu = density x (mu/rho)_material(E_ref) (1/mm). */
+    Materials
   };
 
   /** \brief Perspective weighting of each point. Unbiased (default) gives the pixel-area average line

@@ -2,6 +2,7 @@
 # Installs the Debian packages PointBasedDRR needs to build, test and run its demo (as root, Debian bookworm).
 set -euo pipefail
 packages=(build-essential cmake libinsighttoolkit5-dev libgdcm-dev libgtest-dev invesalius-examples
+  libxrl-dev                    # xraylib 4.0: cross sections and NIST compounds (DRRMaterialTable, DRRXRaySpectrum)
   clang libclang-rt-14-dev llvm # clang, libFuzzer and the sanitizers' runtimes, llvm-symbolizer: test/fuzz
   doxygen clang-format          # the docs target and its test, the formatting test (docs/, test/format)
   slurm-wlm munge parallel)     # batches on a Slurm cluster or GNU parallel, the test's own cluster (docs/slurm.md, test/slurm)

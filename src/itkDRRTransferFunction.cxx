@@ -78,9 +78,88 @@ DRRTransferFunction::WaterAttenuationPerMillimeter(double energyInKeV)
 void
 DRRTransferFunction::SetEffectiveEnergyInKeV(double energyInKeV)
 {
-  m_MuWaterPerMillimeter = WaterAttenuationPerMillimeter(energyInKeV);
+  const double muWater = WaterAttenuationPerMillimeter(energyInKeV); // throws outside 10 .. 1000 keV
+  if (m_Mode == ModeEnum::Materials && m_MaterialTable && energyInKeV > DRRMaterialTable::MaximumEnergyInKeV)
+  {
+    itkExceptionMacro("the Materials transfer function needs an effective energy of at most "
+                      << DRRMaterialTable::MaximumEnergyInKeV << " keV (xraylib's range), got " << energyInKeV
+                      << " keV");
+  }
+  m_MuWaterPerMillimeter = muWater;
   m_EffectiveEnergyInKeV = energyInKeV;
+  if (m_MaterialTable && energyInKeV <= DRRMaterialTable::MaximumEnergyInKeV)
+  {
+    this->UpdateMaterialCache();
+  }
   this->Modified();
+}
+
+void
+DRRTransferFunction::SetMaterialTable(DRRMaterialTable * table)
+{
+  if (table == nullptr)
+  {
+    itkExceptionMacro("the Materials transfer function needs a material table, got none");
+  }
+  if (!table->IsComplete())
+  {
+    itkExceptionMacro("the material table must cover every HU (rows from -inf to inf); it has "
+                      << table->GetNumberOfRows() << " rows");
+  }
+  m_MaterialTable = table;
+  m_Mode = ModeEnum::Materials;
+  if (m_EffectiveEnergyInKeV > 0.0 && m_EffectiveEnergyInKeV <= DRRMaterialTable::MaximumEnergyInKeV)
+  {
+    this->UpdateMaterialCache();
+  }
+  this->Modified();
+}
+
+void
+DRRTransferFunction::UpdateMaterialCache()
+{
+  std::vector<double> cache(m_MaterialTable->GetNumberOfMaterials());
+  for (unsigned int m = 0; m < cache.size(); ++m)
+  {
+    cache[m] = m_MaterialTable->GetMassAttenuation(m, m_EffectiveEnergyInKeV);
+  }
+  m_MassAttenuationAtReference = cache;
+  m_MaterialCacheTime = m_MaterialTable->GetMTime();
+  m_MaterialCacheEnergyInKeV = m_EffectiveEnergyInKeV;
+}
+
+double
+DRRTransferFunction::EvaluateMaterials(double inputValue) const
+{
+  if (!m_MaterialTable)
+  {
+    itkExceptionMacro("the Materials transfer function has no material table (SetMaterialTable())");
+  }
+  if (!(m_EffectiveEnergyInKeV > 0.0))
+  {
+    itkExceptionMacro("the Materials transfer function needs an effective energy (SetEffectiveEnergyInKeV()), not "
+                      "mu_water alone");
+  }
+  if (m_MaterialCacheTime == m_MaterialTable->GetMTime() && m_MaterialCacheEnergyInKeV == m_EffectiveEnergyInKeV)
+  {
+    const unsigned int material = m_MaterialTable->GetMaterialIndex(inputValue);
+    return m_MaterialTable->GetDensity(inputValue) * m_MassAttenuationAtReference[material] / 10.0;
+  }
+  return m_MaterialTable->GetMuPerMillimeter(inputValue, m_EffectiveEnergyInKeV); // the table changed since
+}
+
+int
+DRRTransferFunction::GetMaterialIndex(double inputValue) const
+{
+  if (m_Mode != ModeEnum::Materials)
+  {
+    return -1;
+  }
+  if (!m_MaterialTable)
+  {
+    itkExceptionMacro("the Materials transfer function has no material table (SetMaterialTable())");
+  }
+  return static_cast<int>(m_MaterialTable->GetMaterialIndex(inputValue));
 }
 
 void
@@ -171,5 +250,10 @@ DRRTransferFunction::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "MuWaterPerMillimeter (1/mm): " << m_MuWaterPerMillimeter << std::endl;
   os << indent << "PiecewiseLinearPoints: " << m_PiecewiseLinearPoints.size() << std::endl;
   os << indent << "AirThreshold (input units): " << m_AirThreshold << std::endl;
+  os << indent << "MaterialTable: " << (m_MaterialTable ? "" : "(none)") << std::endl;
+  if (m_MaterialTable)
+  {
+    m_MaterialTable->Print(os, indent.GetNextIndent());
+  }
 }
 } // namespace itk

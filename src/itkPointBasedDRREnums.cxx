@@ -66,6 +66,8 @@ operator<<(std::ostream & out, const PointBasedDRREnums::TransferFunction value)
       return out << "PiecewiseLinear";
     case PointBasedDRREnums::TransferFunction::Identity:
       return out << "Identity";
+    case PointBasedDRREnums::TransferFunction::Materials:
+      return out << "Materials";
   }
   return out << "INVALID TransferFunction";
 }
