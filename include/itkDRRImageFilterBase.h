@@ -169,6 +169,15 @@ public:
   itkGetConstMacro(LabelChannels, bool);
   itkBooleanMacro(LabelChannels);
   ///@}
+  ///@{
+  /** Material channels (default off; docs/design.md section 14): with the transfer function's Materials mode, one
+   * line-integral image of mu at the reference energy per material of its table (channel m: material m), the input of
+   * DRRPolychromaticImageFilter. Not together with LabelChannels. */
+  void
+  SetMaterialChannels(bool channels);
+  itkGetConstMacro(MaterialChannels, bool);
+  itkBooleanMacro(MaterialChannels);
+  ///@}
   /** The labels of the channels of the last update, in channel order (empty without channels). */
   itkGetConstReferenceMacro(ChannelLabels, LabelListType);
   /** The channel images of the last update with LabelChannels on: a component per channel (GetChannelLabels()), line
@@ -265,6 +274,7 @@ private:
   LabelListType m_KeptLabels;
   LabelListType m_DroppedLabels;
   bool          m_LabelChannels{ false };
+  bool          m_MaterialChannels{ false };
   LabelListType m_ChannelLabels;
   TimeStamp     m_LabelSelectionTime; // the last change of the kept or dropped labels or of the channels
 };

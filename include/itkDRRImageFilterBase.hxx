@@ -88,6 +88,18 @@ DRRImageFilterBase<TInputImage, TOutputImage>::SetDroppedLabels(const LabelListT
 
 template <typename TInputImage, typename TOutputImage>
 void
+DRRImageFilterBase<TInputImage, TOutputImage>::SetMaterialChannels(bool channels)
+{
+  if (channels != m_MaterialChannels)
+  {
+    m_MaterialChannels = channels;
+    m_LabelSelectionTime.Modified();
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
 DRRImageFilterBase<TInputImage, TOutputImage>::SetLabelChannels(bool channels)
 {
   if (channels != m_LabelChannels)
@@ -324,6 +336,38 @@ void
 DRRImageFilterBase<TInputImage, TOutputImage>::ApplyLabels(const InputImageType & input, DRRAttenuationVolume & volume)
 {
   m_ChannelLabels.clear();
+  if (m_MaterialChannels)
+  {
+    const DRRMaterialTable * table = m_TransferFunction->GetMaterialTable();
+    if (m_TransferFunction->GetMode() != DRRTransferFunction::ModeEnum::Materials || !table)
+    {
+      itkExceptionMacro("material channels need the transfer function's Materials mode (SetMaterialTable())");
+    }
+    if (m_LabelChannels)
+    {
+      itkExceptionMacro("material channels and label channels cannot be rendered together");
+    }
+    const unsigned int K = table->GetNumberOfMaterials();
+    if (K > DRRLabelSelection::MaximumNumberOfChannels)
+    {
+      itkExceptionMacro("" << K << " materials are more channels than a render holds ("
+                           << DRRLabelSelection::MaximumNumberOfChannels << ")");
+    }
+    for (unsigned int m = 0; m < K; ++m)
+    {
+      m_ChannelLabels.push_back(static_cast<LabelPixelType>(m));
+    }
+    if (K > 1)
+    {
+      const InputPixelType * values = input.GetBufferPointer();
+      std::vector<uint8_t>   channels(volume.GetNumberOfVoxels());
+      for (size_t v = 0; v < channels.size(); ++v)
+      {
+        channels[v] = static_cast<uint8_t>(std::max(0, m_TransferFunction->GetMaterialIndex(double(values[v]))));
+      }
+      volume.SetVoxelChannels(std::move(channels), K);
+    }
+  }
   if (!this->GetLabelImage())
   {
     if (!m_KeptLabels.empty() || !m_DroppedLabels.empty() || m_LabelChannels)
@@ -333,8 +377,12 @@ DRRImageFilterBase<TInputImage, TOutputImage>::ApplyLabels(const InputImageType 
     return;
   }
   const std::vector<LabelPixelType> labels = this->LabelsOnVolumeGrid(input);
-  m_ChannelLabels = DRRLabelSelection::Apply(
+  const LabelListType               channelLabels = DRRLabelSelection::Apply(
     labels.data(), m_KeptLabels, m_DroppedLabels, m_LabelChannels, volume, this->GetMultiThreader());
+  if (m_LabelChannels)
+  {
+    m_ChannelLabels = channelLabels;
+  }
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -523,6 +571,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Inde
   os << indent << "KeptLabels: " << DRRLabelSelection::ToString(m_KeptLabels) << std::endl;
   os << indent << "DroppedLabels: " << DRRLabelSelection::ToString(m_DroppedLabels) << std::endl;
   os << indent << "LabelChannels: " << (m_LabelChannels ? "On" : "Off") << std::endl;
+  os << indent << "MaterialChannels: " << (m_MaterialChannels ? "On" : "Off") << std::endl;
   os << indent << "ChannelLabels: " << DRRLabelSelection::ToString(m_ChannelLabels) << std::endl;
 }
 } // namespace itk

@@ -17,6 +17,8 @@
  *=========================================================================*/
 #include "pbdrrApplication.h"
 #include "pbdrrLabels.h"
+#include "itkDRRPolychromaticImageFilter.h"
+#include "itkDRRXRaySpectrum.h"
 #include "pbdrrBatch.h"
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
@@ -247,7 +249,55 @@ MakeTransferFunction(const Options & options)
   {
     transfer->SetAirThreshold(*options.airThreshold);
   }
+  if (IsPolychromatic(options))
+  {
+    auto table = itk::DRRMaterialTable::New();
+    if (options.materialsFile.empty())
+    {
+      table->SetDefault();
+    }
+    else
+    {
+      table->ReadFile(options.materialsFile);
+    }
+    transfer->SetMaterialTable(table);
+  }
   return transfer;
+}
+
+bool
+IsPolychromatic(const Options & options)
+{
+  return !options.spectrumFile.empty() || options.kvp.has_value();
+}
+
+ProjectionType::ConstPointer
+PolychromaticImage(const Options & options, BaseFilterType * filter, ProjectionType::ConstPointer & standardError)
+{
+  if (!IsPolychromatic(options))
+  {
+    return filter->GetOutput();
+  }
+  auto spectrum = itk::DRRXRaySpectrum::New();
+  if (options.kvp)
+  {
+    spectrum->SetKramers(*options.kvp);
+  }
+  else
+  {
+    spectrum->ReadFile(options.spectrumFile);
+  }
+  using PolychromaticType = itk::DRRPolychromaticImageFilter<BaseFilterType::ChannelImageType, ProjectionType>;
+  auto poly = PolychromaticType::New();
+  poly->SetInput(filter->GetChannelOutput());
+  poly->SetCovarianceInput(filter->GetChannelCovarianceOutput());
+  poly->SetMaterialTable(filter->GetTransferFunction()->GetMaterialTable());
+  poly->SetSpectrum(spectrum);
+  poly->SetReferenceEnergyInKeV(filter->GetTransferFunction()->GetEffectiveEnergyInKeV());
+  poly->SetCorrectJensenBias(options.jensenCorrection);
+  poly->Update();
+  standardError = poly->GetStandardErrorOutput();
+  return poly->GetOutput();
 }
 
 namespace
@@ -325,6 +375,7 @@ MakeRenderer(const Options & options, const VolumeType * volume)
   renderer.Filter->SetInput(volume);
   renderer.Filter->SetTransferFunction(MakeTransferFunction(options));
   ApplyLabelOptions(options, renderer.Filter);
+  renderer.Filter->SetMaterialChannels(IsPolychromatic(options));
   if (options.threads > 0)
   {
     renderer.Filter->SetNumberOfWorkUnits(options.threads);
@@ -498,11 +549,11 @@ Run(const Options & options)
   }
 
   start = Clock::now();
-  const ProjectionType::ConstPointer counted = AddQuantumNoise(options, filter->GetOutput(), options.seed);
-  WriteOutputs(options,
-               counted,
-               pointBased && !options.standardErrorOutput.empty() ? pointBased->GetStandardErrorOutput() : nullptr,
-               notes);
+  ProjectionType::ConstPointer       standardError = pointBased ? pointBased->GetStandardErrorOutput() : nullptr;
+  const ProjectionType::ConstPointer lineIntegral = PolychromaticImage(options, filter, standardError);
+  const ProjectionType::ConstPointer counted = AddQuantumNoise(options, lineIntegral, options.seed);
+  WriteOutputs(
+    options, counted, pointBased && !options.standardErrorOutput.empty() ? standardError.GetPointer() : nullptr, notes);
   WriteLabelChannels(options, filter);
   const std::string geometryPath = WriteGeometryBeside(options.output, geometry);
   stages.emplace_back("write", SecondsSince(start));

@@ -55,6 +55,15 @@ MakeGeometry(const Options & options, const VolumeType * volume);
 itk::DRRTransferFunction::Pointer
 MakeTransferFunction(const Options & options);
 
+/** True if the options ask for a polychromatic beam (--spectrum or --kvp). */
+bool
+IsPolychromatic(const Options & options);
+
+/** The filter's image, or with --spectrum/--kvp its polychromatic line integral -ln T from the material channels
+ * (DRRPolychromaticImageFilter; standardError then becomes its standard error). */
+ProjectionType::ConstPointer
+PolychromaticImage(const Options & options, BaseFilterType * filter, ProjectionType::ConstPointer & standardError);
+
 /** The image with quantum noise (--photons, DRRQuantumNoiseImageFilter seeded by seed), or image itself without. */
 ProjectionType::ConstPointer
 AddQuantumNoise(const Options & options, const ProjectionType * image, uint64_t seed);

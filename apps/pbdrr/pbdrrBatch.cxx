@@ -682,6 +682,10 @@ RunBatch(const Options & options)
                      "--drop-labels, not channels");
   }
   CheckLabelOptions(options);
+  if (IsPolychromatic(options))
+  {
+    throw UsageError("--spectrum and --kvp render one view; a batch renders line integrals at one energy");
+  }
   if (!options.manifest.empty())
   {
     RunManifest(options);

@@ -79,6 +79,14 @@ ReadLabelImage(const std::string & path)
 void
 CheckLabelOptions(const Options & options)
 {
+  if (options.jensenCorrection && !IsPolychromatic(options))
+  {
+    throw UsageError("--jensen-correction corrects a polychromatic image (--spectrum or --kvp)");
+  }
+  if (!options.materialsFile.empty() && !IsPolychromatic(options))
+  {
+    throw UsageError("--materials is the material table of a polychromatic beam (--spectrum or --kvp)");
+  }
   const bool selection = !options.keepLabels.empty() || !options.dropLabels.empty();
   if ((selection || !options.labelChannelsOutput.empty()) && options.labelsFile.empty())
   {

@@ -397,6 +397,19 @@ ParseCommandLine(const std::vector<std::string> & arguments)
     { "--keep-labels", { 1, [&](const auto & v) { options.keepLabels = ParseLabelList(v[0], "--keep-labels"); } } },
     { "--drop-labels", { 1, [&](const auto & v) { options.dropLabels = ParseLabelList(v[0], "--drop-labels"); } } },
     { "--label-channels", { 1, [&](const auto & v) { options.labelChannelsOutput = v[0]; } } },
+    { "--spectrum", { 1, [&](const auto & v) { options.spectrumFile = v[0]; } } },
+    { "--kvp",
+      { 1,
+        [&](const auto & v) {
+          const double              kvp = ParseNumber(v[0], "--kvp");
+          if (!(kvp >= 20.0 && kvp <= 800.0))
+          {
+            throw UsageError("--kvp expects a tube voltage from 20 to 800 kV, got '" + v[0] + "'");
+          }
+          options.kvp = kvp;
+        } } },
+    { "--materials", { 1, [&](const auto & v) { options.materialsFile = v[0]; } } },
+    { "--jensen-correction", { 0, [&](const auto &) { options.jensenCorrection = true; } } },
     { "--exact", { 1, [&](const auto & v) { options.exact = ExactReferenceKernel(v[0]); } } },
     { "--ss", { 1, [&](const auto & v) { options.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } } },
     { "--angles", { 1, [&](const auto & v) { options.angles = WholeNumber(v[0], "--angles", 1, 1000000); } } },
@@ -659,6 +672,15 @@ Physics:
   --window LEVEL WIDTH   gray window in line-integral units (default: percentiles)
   --photons I0           quantum noise: each pixel counts Poisson(I0 exp(-L)) photons and reads -ln(N / I0) (no
                          photon: half a photon); I0 per pixel with nothing in the beam; counts seeded by --seed
+  --spectrum FILE        a polychromatic beam: two columns, energy (keV) and photons per bin; the CT becomes
+                         materials and densities (--materials) and every pixel reads -ln(sum_E S(E)
+                         exp(-sum_m rho_m L_m mu_m(E)) / sum_E S(E)): beam hardening included
+  --kvp KV               the same with Kramers' spectrum of a KV tube hardened by 2.5 mm Al (Kramers 1923; no
+                         characteristic lines)
+  --materials FILE       the HU -> (material, density) table of --spectrum/--kvp (default DeepDRR's air, soft
+                         tissue, bone; docs/design.md section 14)
+  --jensen-correction    with --spectrum/--kvp: remove the second-order bias of the nonlinear transmission of a
+                         noisy estimate, using its covariance
   --labels FILE          a label image (integers 0 to 65535, one per voxel; resampled by nearest neighbour onto the
                          CT's grid if it is not on it)
   --keep-labels L1,L2    only the voxels of these labels attenuate (bone only: the bone label)

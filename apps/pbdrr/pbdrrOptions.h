@@ -91,6 +91,13 @@ struct Options
   std::vector<uint16_t> dropLabels;
   std::string           labelChannelsOutput;
 
+  /** A polychromatic beam (docs/design.md section 14): --spectrum FILE (keV, fluence) or --kvp KV (Kramers' law,
+   * 2.5 mm Al); --materials FILE, the HU -> material table (default DeepDRR's); --jensen-correction. */
+  std::string           spectrumFile;
+  std::optional<double> kvp;
+  std::string           materialsFile;
+  bool                  jensenCorrection{ false };
+
   /** --exact: the kernel whose model the exact projector renders (named by the kernel's ExactReference). */
   std::optional<itk::PointBasedDRREnums::ReconstructionKernel> exact;
   unsigned                                                     raysPerSide{ 1 };
