@@ -112,6 +112,22 @@ ReducePixels(const int64_t *                 total,
     standardError[p] = std::sqrt(squaredDeviations[p] / pairs);
   }
 }
+/** sums[g] = sum over k < K of sums[g K + k], for g < groups: the K channels of every group (a pixel's stratum, or a
+ * pixel) added into its first groups entries, in place (entry g is read before it is written, for K > 1). */
+void
+AddChannelsInPlace(int64_t * sums, size_t groups, size_t K)
+{
+  for (size_t g = 0; g < groups; ++g)
+  {
+    int64_t sum = 0;
+    for (size_t k = 0; k < K; ++k)
+    {
+      sum += sums[g * K + k];
+    }
+    sums[g] = sum;
+  }
+}
+
 /** The line integral and covariance of K channels of n pixels from their integer sums (slot stratum * K + channel,
  * pixel major); channelLineIntegral holds K values per pixel, channelCovariance K (K + 1) / 2 (upper triangle, row
  * major). Each channel is reduced as a render of its own (ReducePixels()). Between channels: with one stratum, a
@@ -240,24 +256,8 @@ Reduce(DRRPointRenderer::Workspace & workspace,
                      result.ChannelLineIntegral.data() + firstPixel * K,
                      result.ChannelCovariance.data() + firstPixel * K * (K + 1) / 2);
       // The image: the channels' integer sums added, the same integers as a render without channels.
-      for (size_t i = 0; i < n * numberOfStrata; ++i)
-      {
-        int64_t sum = 0;
-        for (size_t k = 0; k < K; ++k)
-        {
-          sum += total[i * K + k];
-        }
-        total[i] = sum;
-      }
-      for (size_t p = 0; p < totalOfSquares.size() / K; ++p)
-      {
-        int64_t sum = 0;
-        for (size_t k = 0; k < K; ++k)
-        {
-          sum += totalOfSquares[p * K + k];
-        }
-        totalOfSquares[p] = sum;
-      }
+      AddChannelsInPlace(total.data(), n * numberOfStrata, K);
+      AddChannelsInPlace(totalOfSquares.data(), totalOfSquares.size() / K, K);
     }
     ReducePixels(total.data(),
                  totalOfSquares.data(),
