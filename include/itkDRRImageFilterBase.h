@@ -247,9 +247,10 @@ private:
   BuildAttenuationVolume();
   OutputPixelType *
   AllocateOutput(unsigned int index, size_t numberOfPixels);
-  /** The label image on the volume's grid: the input itself, or its nearest-neighbour resampling. */
-  std::vector<LabelPixelType>
-  LabelsOnVolumeGrid(const InputImageType & input);
+  /** The labels on the volume's grid, one per voxel: the label image's own buffer if it is on that grid, else its
+   * nearest-neighbour resampling, held in resampled. */
+  const LabelPixelType *
+  LabelsOnVolumeGrid(const InputImageType & input, std::vector<LabelPixelType> & resampled);
   /** Latest change of the label image or the label selection (0 without a label image and a selection). */
   ModifiedTimeType
   GetLabelTime() const;

@@ -286,8 +286,10 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetLabelTime() const
 }
 
 template <typename TInputImage, typename TOutputImage>
-std::vector<typename DRRImageFilterBase<TInputImage, TOutputImage>::LabelPixelType>
-DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputImageType & input)
+auto
+DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputImageType &        input,
+                                                                  std::vector<LabelPixelType> & resampled)
+  -> const LabelPixelType *
 {
   const LabelImageType * labels = this->GetLabelImage();
   const auto             region = input.GetLargestPossibleRegion();
@@ -305,15 +307,15 @@ DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputIma
   const size_t numberOfVoxels = region.GetNumberOfPixels();
   if (sameGrid)
   {
-    return std::vector<LabelPixelType>(labels->GetBufferPointer(), labels->GetBufferPointer() + numberOfVoxels);
+    return labels->GetBufferPointer();
   }
   itkWarningMacro("the label image (size "
                   << labelRegion.GetSize() << ", spacing " << labels->GetSpacing() << ", origin " << labels->GetOrigin()
                   << ") is not on the volume's grid (size " << region.GetSize() << ", spacing " << input.GetSpacing()
                   << ", origin " << input.GetOrigin()
                   << "): resampled onto it by nearest neighbour, label 0 outside it");
-  std::vector<LabelPixelType> resampled(numberOfVoxels, 0);
-  const auto                  size = region.GetSize();
+  resampled.assign(numberOfVoxels, 0);
+  const auto size = region.GetSize();
   for (size_t v = 0; v < numberOfVoxels; ++v)
   {
     typename InputImageType::IndexType index;
@@ -328,7 +330,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputIma
       resampled[v] = labels->GetPixel(labelIndex);
     }
   }
-  return resampled;
+  return resampled.data();
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -376,9 +378,10 @@ DRRImageFilterBase<TInputImage, TOutputImage>::ApplyLabels(const InputImageType 
     }
     return;
   }
-  const std::vector<LabelPixelType> labels = this->LabelsOnVolumeGrid(input);
-  const LabelListType               channelLabels = DRRLabelSelection::Apply(
-    labels.data(), m_KeptLabels, m_DroppedLabels, m_LabelChannels, volume, this->GetMultiThreader());
+  std::vector<LabelPixelType> resampled;
+  const LabelPixelType *      labels = this->LabelsOnVolumeGrid(input, resampled);
+  const LabelListType         channelLabels =
+    DRRLabelSelection::Apply(labels, m_KeptLabels, m_DroppedLabels, m_LabelChannels, volume, this->GetMultiThreader());
   if (m_LabelChannels)
   {
     m_ChannelLabels = channelLabels;
