@@ -18,7 +18,6 @@
 #include "pbdrrApplication.h"
 #include "pbdrrLabels.h"
 #include "itkDRRPolychromaticImageFilter.h"
-#include "itkDRRXRaySpectrum.h"
 #include "pbdrrBatch.h"
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
@@ -271,12 +270,12 @@ IsPolychromatic(const Options & options)
   return !options.spectrumFile.empty() || options.kvp.has_value();
 }
 
-ProjectionType::ConstPointer
-PolychromaticImage(const Options & options, BaseFilterType * filter, ProjectionType::ConstPointer & standardError)
+itk::DRRXRaySpectrum::Pointer
+MakeSpectrum(const Options & options)
 {
   if (!IsPolychromatic(options))
   {
-    return filter->GetOutput();
+    return nullptr;
   }
   auto spectrum = itk::DRRXRaySpectrum::New();
   if (options.kvp)
@@ -286,6 +285,19 @@ PolychromaticImage(const Options & options, BaseFilterType * filter, ProjectionT
   else
   {
     spectrum->ReadFile(options.spectrumFile);
+  }
+  return spectrum;
+}
+
+ProjectionType::ConstPointer
+PolychromaticImage(const Options &                options,
+                   const itk::DRRXRaySpectrum *   spectrum,
+                   BaseFilterType *               filter,
+                   ProjectionType::ConstPointer & standardError)
+{
+  if (!spectrum)
+  {
+    return filter->GetOutput();
   }
   using PolychromaticType = itk::DRRPolychromaticImageFilter<BaseFilterType::ChannelImageType, ProjectionType>;
   auto poly = PolychromaticType::New();
@@ -479,6 +491,7 @@ Run(const Options & options)
     CheckWritable(options.standardErrorOutput);
   }
   CheckLabelOptions(options);
+  const itk::DRRXRaySpectrum::Pointer spectrum = MakeSpectrum(options); // a bad spectrum file stops before the load
   if (options.threads > 0)
   {
     itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
@@ -550,7 +563,7 @@ Run(const Options & options)
 
   start = Clock::now();
   ProjectionType::ConstPointer       standardError = pointBased ? pointBased->GetStandardErrorOutput() : nullptr;
-  const ProjectionType::ConstPointer lineIntegral = PolychromaticImage(options, filter, standardError);
+  const ProjectionType::ConstPointer lineIntegral = PolychromaticImage(options, spectrum, filter, standardError);
   const ProjectionType::ConstPointer counted = AddQuantumNoise(options, lineIntegral, options.seed);
   WriteOutputs(
     options, counted, pointBased && !options.standardErrorOutput.empty() ? standardError.GetPointer() : nullptr, notes);

@@ -25,6 +25,7 @@
 #include "itkDRRImageFilterBase.h"
 #include "itkDRRProjectionGeometry.h"
 #include "itkDRRTransferFunction.h"
+#include "itkDRRXRaySpectrum.h"
 #include "itkPointBasedDRRImageFilter.h"
 
 namespace pbdrr
@@ -59,10 +60,17 @@ MakeTransferFunction(const Options & options);
 bool
 IsPolychromatic(const Options & options);
 
-/** The filter's image, or with --spectrum/--kvp its polychromatic line integral -ln T from the material channels
- * (DRRPolychromaticImageFilter; standardError then becomes its standard error). */
+/** The spectrum of --spectrum FILE or --kvp KV (null for neither); throws for a bad spectrum file. */
+itk::DRRXRaySpectrum::Pointer
+MakeSpectrum(const Options & options);
+
+/** The filter's image, or with a spectrum (MakeSpectrum()) its polychromatic line integral -ln T from the material
+ * channels (DRRPolychromaticImageFilter; standardError then becomes its standard error). */
 ProjectionType::ConstPointer
-PolychromaticImage(const Options & options, BaseFilterType * filter, ProjectionType::ConstPointer & standardError);
+PolychromaticImage(const Options &                options,
+                   const itk::DRRXRaySpectrum *   spectrum,
+                   BaseFilterType *               filter,
+                   ProjectionType::ConstPointer & standardError);
 
 /** The image with quantum noise (--photons, DRRQuantumNoiseImageFilter seeded by seed), or image itself without. */
 ProjectionType::ConstPointer
