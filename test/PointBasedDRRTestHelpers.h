@@ -20,6 +20,7 @@
 
 #include "itkImage.h"
 #include "itkMath.h"
+#include "itkProcessObject.h"
 
 #include "gtest/gtest.h"
 
@@ -157,6 +158,21 @@ ExceptionMessage(TFunction f, const std::string & what)
     return "";
   }
   ADD_FAILURE() << what << ": did not throw";
+  return "";
+}
+
+/** Updates a filter; returns the description of the itk::ExceptionObject it throws, or "" if it does not throw. */
+inline std::string
+UpdateError(itk::ProcessObject * filter)
+{
+  try
+  {
+    filter->Update();
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    return e.GetDescription();
+  }
   return "";
 }
 

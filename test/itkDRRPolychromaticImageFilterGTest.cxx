@@ -21,6 +21,7 @@
 #include "itkDRRPolychromaticImageFilter.h"
 #include "itkImage.h"
 #include "itkVectorImage.h"
+#include "PointBasedDRRTestHelpers.h"
 
 #include "gtest/gtest.h"
 
@@ -34,6 +35,7 @@
 
 namespace
 {
+using PointBasedDRRTest::UpdateError;
 using ChannelImageType = itk::VectorImage<float, 2>;
 using OutputImageType = itk::Image<double, 2>;
 using FloatImageType = itk::Image<float, 2>;
@@ -76,19 +78,6 @@ EffectiveEnergy(double minusLogT, double thickness)
   return 0.5 * (low + high);
 }
 
-std::string
-UpdateError(FilterType * filter)
-{
-  try
-  {
-    filter->Update();
-  }
-  catch (const itk::ExceptionObject & e)
-  {
-    return e.GetDescription();
-  }
-  return "";
-}
 } // namespace
 
 TEST(DRRPolychromaticImageFilter, WaterSlabsMatchTheClosedFormAndHarden)

@@ -64,21 +64,6 @@ GeometryLookingAt(const GeometryType::PointType & isocenter, double pixelSpacing
   geometry->SetDetectorSpacing(GeometryType::DetectorVectorType(pixelSpacing));
   return geometry;
 }
-
-template <typename TFilter>
-std::string
-UpdateError(TFilter * filter)
-{
-  try
-  {
-    filter->Update();
-  }
-  catch (const itk::ExceptionObject & e)
-  {
-    return e.GetDescription();
-  }
-  return "";
-}
 } // namespace
 
 // Fuzzing found: a volume whose voxels are all one huge integral value (3e38 in float) converted its level offset to
