@@ -234,8 +234,9 @@ protected:
   void
   WriteChannelOutputs(const std::vector<double> & channels, const std::vector<double> * covariance);
 
-  /** Makes the channel outputs (named "Channels" and "ChannelCovariance"). */
+  /** The indexed outputs' MakeOutput(idx), beside the named one below. */
   using Superclass::MakeOutput;
+  /** Makes the channel outputs (named "Channels" and "ChannelCovariance"); other names as the superclass does. */
   DataObject::Pointer
   MakeOutput(const ProcessObject::DataObjectIdentifierType & name) override;
 
