@@ -363,10 +363,30 @@ DRRImageFilterBase<TInputImage, TOutputImage>::ApplyLabels(const InputImageType 
     {
       const InputPixelType * values = input.GetBufferPointer();
       std::vector<uint8_t>   channels(volume.GetNumberOfVoxels());
-      for (size_t v = 0; v < channels.size(); ++v)
+      const auto             materialOf = [&](double value) {
+        return static_cast<uint8_t>(std::max(0, m_TransferFunction->GetMaterialIndex(value)));
+      };
+      // CT in HU (integers, whatever the pixel type): one lookup per voxel in a table of the int16 range instead of a
+      // search of the table's rows; other values search.
+      constexpr int32_t    lowest = -32768;
+      std::vector<uint8_t> materialOfValue(65536);
+      for (int32_t value = lowest; value <= 32767; ++value)
       {
-        channels[v] = static_cast<uint8_t>(std::max(0, m_TransferFunction->GetMaterialIndex(double(values[v]))));
+        materialOfValue[static_cast<size_t>(value - lowest)] = materialOf(value);
       }
+      DRRAttenuationVolume::ParallelizeBlocks(
+        volume.GetNumberOfBlocks(),
+        [&](uint64_t block) {
+          const uint64_t end = volume.GetBlockBegin(block + 1);
+          for (uint64_t v = volume.GetBlockBegin(block); v < end; ++v)
+          {
+            const double value = static_cast<double>(values[v]);
+            const bool   tabled = value >= lowest && value <= 32767.0 && value == std::floor(value);
+            channels[v] =
+              tabled ? materialOfValue[static_cast<size_t>(static_cast<int32_t>(value) - lowest)] : materialOf(value);
+          }
+        },
+        this->GetMultiThreader());
       volume.SetVoxelChannels(std::move(channels), K);
     }
   }
