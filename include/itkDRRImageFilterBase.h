@@ -146,7 +146,8 @@ public:
 
   ///@{
   /** Optional label image (docs/design.md section 13): a label (0 to 65535) per voxel, on the volume's grid (size,
-   * origin, spacing, direction), or else resampled onto it by nearest neighbour (0 outside it), with a warning. */
+   * origin, spacing, direction), or else resampled onto it by nearest neighbour (0 outside it), with a warning; one
+   * that covers no voxel of the volume is refused at Update(). */
   itkSetInputMacro(LabelImage, LabelImageType);
   itkGetInputMacro(LabelImage, LabelImageType);
   ///@}

@@ -316,6 +316,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputIma
                   << "): resampled onto it by nearest neighbour, label 0 outside it");
   resampled.assign(numberOfVoxels, 0);
   const auto size = region.GetSize();
+  size_t     inside = 0;
   for (size_t v = 0; v < numberOfVoxels; ++v)
   {
     typename InputImageType::IndexType index;
@@ -328,7 +329,13 @@ DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputIma
     if (labels->TransformPhysicalPointToIndex(point, labelIndex))
     {
       resampled[v] = labels->GetPixel(labelIndex);
+      ++inside;
     }
+  }
+  if (inside == 0)
+  {
+    itkExceptionMacro("the label image (size " << labelRegion.GetSize() << ", origin " << labels->GetOrigin()
+                                               << ") covers no voxel of the volume: it belongs to another volume");
   }
   return resampled.data();
 }

@@ -459,6 +459,17 @@ TEST(DRRLabelSelection, RefusesLabelsThatDoNotExistAndSettingsThatCannotHold)
     EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "nothing left"), "leave no label"));
   }
   {
+    // A label image of another volume: resampled, it would label every voxel 0.
+    auto elsewhere = MakeVolume<LabelImageType>({ { 4, 4, 4 } },
+                                                phantom.Labels->GetSpacing(),
+                                                phantom.Labels->GetOrigin() + Vec(500.0, 0.0, 0.0),
+                                                phantom.Labels->GetDirection());
+    auto drr = MakePointFilter(phantom, "stratified", false);
+    drr->SetLabelImage(elsewhere);
+    EXPECT_TRUE(
+      Contains(ExceptionMessage([&] { drr->Update(); }, "a label image elsewhere"), "covers no voxel of the volume"));
+  }
+  {
     auto drr = MakePointFilter(phantom, "stratified", false);
     drr->SetLabelChannels(true);
     EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "channels without labels"), "need a label image"));

@@ -137,15 +137,15 @@ WritePhantom(const fs::path & file)
   itk::WriteImage(image, file.string());
 }
 
-/** A label image on the phantom's grid, its voxel (x, y, z) set to label(x). */
+/** A label image on the phantom's grid (moved along x by shiftInMillimetres), its voxel (x, y, z) set to label(x). */
 template <typename TImage, typename TLabel>
 void
-WriteLabels(const fs::path & file, TLabel label)
+WriteLabels(const fs::path & file, TLabel label, double shiftInMillimetres = 0.0)
 {
   auto image = TImage::New();
   image->SetRegions(itk::Size<3>{ { 16, 16, 12 } });
   const double spacing[3] = { 1.0, 1.0, 1.5 };
-  const double origin[3] = { -7.5, -7.5, -8.25 };
+  const double origin[3] = { -7.5 + shiftInMillimetres, -7.5, -8.25 };
   image->SetSpacing(spacing);
   image->SetOrigin(origin);
   image->Allocate();
@@ -600,6 +600,8 @@ main(int argc, char * argv[])
     WriteLabels<itk::Image<float, 3>>(root / "labels_float.mha", [](unsigned x) { return 1.0f + x / 8; });
     WriteLabels<itk::Image<short, 3>>(root / "labels_negative.mha", [](unsigned x) { return x == 3 ? -1 : 1; });
     WriteConstant<itk::Image<unsigned char, 2>>(root / "labels_2d.mha", { { 16, 16 } }, 1);
+    WriteLabels<itk::Image<unsigned char, 3>>(
+      root / "labels_elsewhere.mha", [](unsigned) { return 1; }, 500.0); // another volume's
     // For pbdrr register: no symmetry, so that every pose parameter shows (three bone blocks in a soft-tissue box).
     itk::WriteImage(MakeShortVolume({ { 24, 20, 16 } },
                                     { { 2.0, 2.0, 2.0 } },
