@@ -253,6 +253,11 @@ private:
    * nearest-neighbour resampling, held in resampled. */
   const LabelPixelType *
   LabelsOnVolumeGrid(const InputImageType & input, std::vector<LabelPixelType> & resampled);
+  /** Sets a setting of the labels (kept, dropped, channels): marks the selection, and so the attenuation volume,
+   * changed if the value is new. */
+  template <typename TValue>
+  void
+  SetLabelSetting(TValue & member, const TValue & value);
   /** Latest change of the label image or the label selection (0 without a label image and a selection). */
   ModifiedTimeType
   GetLabelTime() const;

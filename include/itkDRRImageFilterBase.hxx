@@ -63,51 +63,44 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetChannelCovarianceOutput() -> C
 }
 
 template <typename TInputImage, typename TOutputImage>
+template <typename TValue>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::SetLabelSetting(TValue & member, const TValue & value)
+{
+  if (value != member)
+  {
+    member = value;
+    m_LabelSelectionTime.Modified(); // the attenuation volume is rebuilt
+    this->Modified();
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
 void
 DRRImageFilterBase<TInputImage, TOutputImage>::SetKeptLabels(const LabelListType & labels)
 {
-  if (labels != m_KeptLabels)
-  {
-    m_KeptLabels = labels;
-    m_LabelSelectionTime.Modified();
-    this->Modified();
-  }
+  this->SetLabelSetting(m_KeptLabels, labels);
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
 DRRImageFilterBase<TInputImage, TOutputImage>::SetDroppedLabels(const LabelListType & labels)
 {
-  if (labels != m_DroppedLabels)
-  {
-    m_DroppedLabels = labels;
-    m_LabelSelectionTime.Modified();
-    this->Modified();
-  }
+  this->SetLabelSetting(m_DroppedLabels, labels);
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
 DRRImageFilterBase<TInputImage, TOutputImage>::SetMaterialChannels(bool channels)
 {
-  if (channels != m_MaterialChannels)
-  {
-    m_MaterialChannels = channels;
-    m_LabelSelectionTime.Modified();
-    this->Modified();
-  }
+  this->SetLabelSetting(m_MaterialChannels, channels);
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
 DRRImageFilterBase<TInputImage, TOutputImage>::SetLabelChannels(bool channels)
 {
-  if (channels != m_LabelChannels)
-  {
-    m_LabelChannels = channels;
-    m_LabelSelectionTime.Modified();
-    this->Modified();
-  }
+  this->SetLabelSetting(m_LabelChannels, channels);
 }
 
 template <typename TInputImage, typename TOutputImage>
