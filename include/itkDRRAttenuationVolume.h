@@ -45,11 +45,16 @@ class DRRTransferFunction;
  * physical = Origin + IndexToPhysical * index (IndexToPhysical = direction * diag(spacing), mm per index). The
  * filters build it once per input and transfer function (Build()); the samplers and exact projectors only read it.
  *
- * Integer-valued input (CT in HU, whatever the pixel type, whose values span less than 65536) is held as levels: the
- * non-air voxels grouped by input value, one level per value, each with its one mu. That is the paper's hist[l],
- * which the level samplers draw from as it is, and a lossless form of mu: mu per voxel is then materialized from the
- * levels only when something asks for it (GetMuBuffer()), which the level samplers never do. Levels take 4 bytes per
- * non-air voxel, mu 4 bytes per voxel. Other input is held as mu per voxel.
+ * Integer-valued input (CT in HU, whatever the pixel type, whose values span less than 65536) is held as 16-bit keys
+ * (the input value less an integer offset) and a table of mu per key, the transfer function folded into it: mu of a
+ * voxel is one lookup at the point of use (FillMuRow()). A 16-bit input (int16 HU, the common CT) whose owner is given
+ * to Build() is read in place: the volume adds no byte per voxel to the input. Other integer input is copied to keys
+ * (2 bytes per voxel). The same input is also grouped into levels, one per input value with mu > 0: the paper's
+ * hist[l]. Their counts come with the keys; their voxel lists (GetLevelVoxels(), 4 bytes per non-air voxel) are built
+ * on the first call, by the level samplers alone, and mu per voxel (GetMuBuffer(), 4 bytes per voxel) likewise for
+ * the consumers that want it. Other input (float HU, mu) is held as mu per voxel. A residual volume
+ * (BuildResidual(): |mu - mu_c| of a control variate) holds no voxel either: its rows are computed from the volume
+ * and its coarse means when read.
  *
  * Every pass over the voxels runs in parallel over a fixed partition of the voxels into blocks
  * (GetNumberOfBlocks(), GetBlockBegin()) that depends on the size alone, never on the threads; per-block results are
@@ -88,14 +93,16 @@ public:
   /** Builds the volume from input values (size[0] x size[1] x size[2], x fastest) through a transfer function, on
    * the threads of threader (null: platform threads of its own). Integer values spanning less than 65536 (in volumes of
    * fewer than 2^32 - 128 voxels) give levels, anything else mu per voxel. Throws, naming the first offending voxel in
-   * memory order, for a non-finite value or a negative or non-finite attenuation. Defined in
-   * itkDRRAttenuationVolume.hxx, for every pixel type. */
+   * memory order, for a non-finite value or a negative or non-finite attenuation. 16-bit integer values are read in
+   * place, not copied, when valueOwner (the image's pixel container) is given: the volume keeps a reference to it, and
+   * the values must not change without a new Build(). Defined in itkDRRAttenuationVolume.hxx, for every pixel type. */
   template <typename TValue>
   void
   Build(const TValue *              values,
         const SizeType &            size,
         const DRRTransferFunction & transfer,
-        MultiThreaderBase *         threader);
+        MultiThreaderBase *         threader,
+        const LightObject *         valueOwner = nullptr);
 
   /** Builds a volume of mu per voxel (no levels) computed by fill for the voxels of every fixed block, on the threads
    * of threader (null: platform threads of its own): for volumes derived from another one (DRRControlVariate's coarse
@@ -103,6 +110,103 @@ public:
    * for a negative or non-finite mu. The index-to-physical mapping is left as it was. */
   void
   BuildFromMu(const SizeType & size, const MuFunctionType & fill, MultiThreaderBase * threader);
+
+  /** Makes this volume the residual of a control variate: |mu_v - mu_c(block of v)| (1/mm) on the grid of fine padded
+   * to a multiple of factor per axis (the padding is air in fine), where coarse holds the block means mu_c, one voxel
+   * per factor^3 block. No voxel is stored: FillMuRow() computes a row from fine's rows and coarse's row, and
+   * FillResidualRow() gives the signed residual. Both volumes are kept (referenced). One parallel pass gives the
+   * extremes and the sum of |r| (in the fixed blocks' order, as a volume of mu per voxel would). The index-to-physical
+   * mapping is fine's. */
+  void
+  BuildResidual(const DRRAttenuationVolume & fine,
+                const DRRAttenuationVolume & coarse,
+                unsigned int                 factor,
+                MultiThreaderBase *          threader);
+
+  /** mu (1/mm) of the count voxels (i .. i + count - 1, j, k) of one row, all inside the grid, into out: a lookup of
+   * the keys, a copy of mu, or the residual computed. Thread-safe; the cheap way to read the volume by rows. */
+  void
+  FillMuRow(uint64_t i, uint64_t j, uint64_t k, uint64_t count, float * out) const
+  {
+    const uint64_t first = i + m_Size[0] * (j + m_Size[1] * k);
+    if (m_Keys)
+    {
+      const uint16_t * keys = m_Keys + first;
+      const float *    table = m_KeyMu.data();
+      const uint16_t   flip = m_KeyFlip;
+      for (uint64_t x = 0; x < count; ++x)
+      {
+        out[x] = table[static_cast<uint16_t>(keys[x] ^ flip)];
+      }
+      return;
+    }
+    this->FillMuRowSlow(first, i, j, k, count, out);
+  }
+
+  /** mu (1/mm) of the box of voxels [i, i + ni) x [j, j + nj) x [k, k + nk), all inside the grid, into out (x fastest,
+   * ni nj nk values): one call for a sampler's group of voxels, whatever the volume holds. */
+  void
+  FillMuBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni, uint64_t nj, uint64_t nk, float * out) const;
+
+  /** Reads mu (1/mm) by linear voxel index (x fastest) in the hot loops of the exact projectors: a key lookup for a
+   * volume of keys, else mu per voxel. Copyable, valid while the volume is unchanged. */
+  class MuReader
+  {
+  public:
+    /** mu (1/mm) of voxel v (linear index, x fastest). */
+    float
+    operator()(uint64_t v) const
+    {
+      return m_Keys ? m_Table[static_cast<uint16_t>(m_Keys[v] ^ m_Flip)] : m_Mu[v];
+    }
+    /** True if mu comes from the keys (no float per voxel was made). */
+    bool
+    ReadsKeys() const
+    {
+      return m_Keys != nullptr;
+    }
+
+  private:
+    friend class DRRAttenuationVolume;
+    const uint16_t * m_Keys{ nullptr };
+    uint16_t         m_Flip{ 0 };
+    const float *    m_Table{ nullptr };
+    const float *    m_Mu{ nullptr };
+  };
+  /** A MuReader of this volume (materializes mu per voxel for a volume without keys: a residual, a masked volume). */
+  MuReader
+  GetMuReader() const
+  {
+    MuReader reader;
+    if (m_Keys)
+    {
+      reader.m_Keys = m_Keys;
+      reader.m_Flip = m_KeyFlip;
+      reader.m_Table = m_KeyMu.data();
+    }
+    else
+    {
+      reader.m_Mu = this->GetMuBuffer();
+    }
+    return reader;
+  }
+
+  /** The signed residual r = mu - mu_c (1/mm) of count voxels of a row of a residual volume (BuildResidual()); throws
+   * for another volume. */
+  void
+  FillResidualRow(uint64_t i, uint64_t j, uint64_t k, uint64_t count, double * out) const;
+
+  /** True for a residual volume (BuildResidual()). */
+  bool
+  IsResidual() const
+  {
+    return m_ResidualCoarse.IsNotNull();
+  }
+
+  /** Bytes this volume holds per voxel of its grid beyond its input (keys copied, mu, level lists, channels), for
+   * `pbdrr -v`: 0 for a 16-bit CT read in place with nothing else asked for. */
+  double
+  GetBytesPerVoxel() const;
 
   /** Makes every voxel v with keep[v] == 0 air (x fastest, one entry per voxel): mu 0, in no level, never sampled.
    * The labels a render leaves out (DRRImageFilterBase::SetKeptLabels()). Levels keep their order and mu; levels left
@@ -185,11 +289,13 @@ public:
   {
     return m_LevelStart[level];
   }
-  /** The non-air voxels (linear index, x fastest) grouped by level, increasing within a level. */
+  /** The non-air voxels (linear index, x fastest) grouped by level, increasing within a level. Built on the first call
+   * (in parallel, thread-safe; 4 bytes per non-air voxel; volumes of fewer than 2^32 voxels); valid until the next
+   * Build(). */
   const uint32_t *
   GetLevelVoxels() const
   {
-    return m_LevelVoxels.get();
+    return m_LevelVoxelsReady.load(std::memory_order_acquire) ? m_LevelVoxels.get() : this->MaterializeLevelVoxels();
   }
 
   /** The fixed partition of the voxels used by every parallel pass: block b holds the voxels
@@ -305,23 +411,56 @@ private:
   FinishMu(const std::vector<Failure> & failures,
            const std::vector<float> &   smallest,
            const std::vector<float> &   largest);
-  /** Fills mu from the levels, once. */
+  /** Fills mu from the keys, the levels or the residual's rows, once. */
   const float *
   MaterializeMu() const;
+  /** Forgets the keys (a mask made some voxels air). */
+  void
+  DropKeys();
+  /** Sorts the voxels by level from the keys, once. */
+  const uint32_t *
+  MaterializeLevelVoxels() const;
+  /** FillMuRow() of a volume without keys: from mu per voxel (materialized if needed) or the residual. */
+  void
+  FillMuRowSlow(uint64_t first, uint64_t i, uint64_t j, uint64_t k, uint64_t count, float * out) const;
+  /** Calls function(v, mu, n) for the voxels [begin, end) in runs of at most one row, mu holding their n values. */
+  template <typename TFunction>
+  void
+  ForEachMuRun(uint64_t begin, uint64_t end, TFunction && function) const;
+  /** Holds the keys of 16-bit input in place (read through keyFlip), or a copy of value - offset. */
+  template <typename TValue>
+  void
+  KeepKeys(const TValue * values, double offset, MultiThreaderBase * threader, const LightObject * valueOwner);
 
-  SizeType                         m_Size{ { 0, 0, 0 } };
-  mutable std::unique_ptr<float[]> m_Mu;
-  mutable std::atomic<bool>        m_MuReady{ false };
-  mutable std::mutex               m_MuMutex;
-  std::vector<float>               m_LevelMu;
-  std::vector<uint64_t>            m_LevelStart;
-  std::unique_ptr<uint32_t[]>      m_LevelVoxels;
-  float                            m_SmallestPositiveMu{ 0.0f };
-  float                            m_LargestMu{ 0.0f };
-  MatrixType                       m_IndexToPhysical;
-  PointType                        m_Origin;
-  std::vector<uint8_t>             m_VoxelChannels;
-  unsigned int                     m_NumberOfChannels{ 1 };
+  SizeType                            m_Size{ { 0, 0, 0 } };
+  mutable std::unique_ptr<float[]>    m_Mu;
+  mutable std::atomic<bool>           m_MuReady{ false };
+  mutable std::mutex                  m_MuMutex;
+  std::vector<float>                  m_LevelMu;
+  std::vector<uint64_t>               m_LevelStart;
+  mutable std::unique_ptr<uint32_t[]> m_LevelVoxels;
+  mutable std::atomic<bool>           m_LevelVoxelsReady{ false };
+  mutable std::mutex                  m_LevelVoxelsMutex;
+  KeyCounts                           m_KeyCounts;  // per-block key counts, for the level lists
+  std::vector<uint32_t>               m_LevelOfKey; // level of key - lowest key, or none (air)
+  uint32_t                            m_LowestKey{ 0 };
+  // Keys: value - offset of every voxel, read as stored ^ m_KeyFlip (the input in place, or m_OwnKeys).
+  const uint16_t *            m_Keys{ nullptr };
+  uint16_t                    m_KeyFlip{ 0 };
+  std::unique_ptr<uint16_t[]> m_OwnKeys;
+  LightObject::ConstPointer   m_KeyOwner;
+  std::vector<float>          m_KeyMu; // mu (1/mm) of every key, 0 for air and absent keys
+  // Residual of a control variate (BuildResidual()).
+  ConstPointer         m_ResidualFine;
+  ConstPointer         m_ResidualCoarse;
+  uint64_t             m_ResidualFactor{ 0 };
+  double               m_ResidualMuSum{ 0.0 };
+  float                m_SmallestPositiveMu{ 0.0f };
+  float                m_LargestMu{ 0.0f };
+  MatrixType           m_IndexToPhysical;
+  PointType            m_Origin;
+  std::vector<uint8_t> m_VoxelChannels;
+  unsigned int         m_NumberOfChannels{ 1 };
 };
 } // namespace itk
 

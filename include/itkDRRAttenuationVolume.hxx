@@ -128,7 +128,8 @@ void
 DRRAttenuationVolume::Build(const TValue *              values,
                             const SizeType &            size,
                             const DRRTransferFunction & transfer,
-                            MultiThreaderBase *         threader)
+                            MultiThreaderBase *         threader,
+                            const LightObject *         valueOwner)
 {
   this->Reset(size);
   const uint64_t numberOfVoxels = this->GetNumberOfVoxels();
@@ -136,54 +137,92 @@ DRRAttenuationVolume::Build(const TValue *              values,
   {
     return;
   }
-  // Levels index their voxels, and a scratch slot per block, with 32 bits.
-  if (numberOfVoxels <= std::numeric_limits<uint32_t>::max() - ComputeNumberOfBlocks(numberOfVoxels))
+  // First guess: integers in [-32768, 32767], i.e. any int16 CT, counted in the same pass that checks them; uint16
+  // input is keyed by its value, so that it can be read in place.
+  KeyCounts counts;
+  double    offset = std::is_same<TValue, uint16_t>::value ? 0.0 : -32768.0;
+  bool      integral = this->CountIntegerKeys(values, offset, counts, threader);
+  if (!integral)
   {
-    // First guess: integers in [-32768, 32767], i.e. any int16 CT, counted in the same pass that checks them.
-    KeyCounts counts;
-    double    offset = -32768.0;
-    bool      integral = this->CountIntegerKeys(values, offset, counts, threader);
-    if (!integral)
-    {
-      // Else: integers spanning less than 2^16, counted from their smallest value.
-      const uint64_t       numberOfBlocks = this->GetNumberOfBlocks();
-      std::vector<double>  lowest(numberOfBlocks, std::numeric_limits<double>::infinity());
-      std::vector<double>  highest(numberOfBlocks, -std::numeric_limits<double>::infinity());
-      std::vector<uint8_t> blockIntegral(numberOfBlocks, 1);
-      ParallelizeBlocks(
-        numberOfBlocks,
-        [&](uint64_t b) {
-          const uint64_t end = this->GetBlockBegin(b + 1);
-          for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+    // Else: integers spanning less than 2^16, counted from their smallest value.
+    const uint64_t       numberOfBlocks = this->GetNumberOfBlocks();
+    std::vector<double>  lowest(numberOfBlocks, std::numeric_limits<double>::infinity());
+    std::vector<double>  highest(numberOfBlocks, -std::numeric_limits<double>::infinity());
+    std::vector<uint8_t> blockIntegral(numberOfBlocks, 1);
+    ParallelizeBlocks(
+      numberOfBlocks,
+      [&](uint64_t b) {
+        const uint64_t end = this->GetBlockBegin(b + 1);
+        for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+        {
+          if (!DRRAttenuationVolumeDetail::IsInteger(values[v]))
           {
-            if (!DRRAttenuationVolumeDetail::IsInteger(values[v]))
-            {
-              blockIntegral[b] = 0;
-              return;
-            }
-            lowest[b] = std::min(lowest[b], static_cast<double>(values[v]));
-            highest[b] = std::max(highest[b], static_cast<double>(values[v]));
+            blockIntegral[b] = 0;
+            return;
           }
-        },
-        threader);
-      integral = std::all_of(blockIntegral.begin(), blockIntegral.end(), [](uint8_t i) { return i != 0; });
-      if (integral)
-      {
-        offset = *std::min_element(lowest.begin(), lowest.end());
-        integral =
-          *std::max_element(highest.begin(), highest.end()) - offset <= DRRAttenuationVolumeDetail::MaximumKey &&
-          this->CountIntegerKeys(values, offset, counts, threader);
-      }
-    }
+          lowest[b] = std::min(lowest[b], static_cast<double>(values[v]));
+          highest[b] = std::max(highest[b], static_cast<double>(values[v]));
+        }
+      },
+      threader);
+    integral = std::all_of(blockIntegral.begin(), blockIntegral.end(), [](uint8_t i) { return i != 0; });
     if (integral)
     {
-      this->BuildLevels(values, offset, counts, transfer, threader);
-      this->Modified();
-      return;
+      offset = *std::min_element(lowest.begin(), lowest.end());
+      integral = *std::max_element(highest.begin(), highest.end()) - offset <= DRRAttenuationVolumeDetail::MaximumKey &&
+                 this->CountIntegerKeys(values, offset, counts, threader);
     }
+  }
+  if (integral)
+  {
+    this->BuildLevels(values, offset, counts, transfer, threader);
+    this->KeepKeys(values, offset, threader, valueOwner);
+    this->Modified();
+    return;
   }
   this->BuildMu(values, transfer, threader);
   this->Modified();
+}
+
+template <typename TValue>
+void
+DRRAttenuationVolume::KeepKeys(const TValue *      values,
+                               double              offset,
+                               MultiThreaderBase * threader,
+                               const LightObject * valueOwner)
+{
+  constexpr bool signed16 = std::is_same<TValue, int16_t>::value;
+  constexpr bool unsigned16 = std::is_same<TValue, uint16_t>::value;
+  if constexpr (signed16 || unsigned16)
+  {
+    // 16-bit input keyed from -32768 (int16) or 0 (uint16): the key is the stored word itself, its sign bit flipped
+    // for int16; read in place while its owner keeps it.
+    if (valueOwner && offset == (signed16 ? -32768.0 : 0.0))
+    {
+      m_Keys = reinterpret_cast<const uint16_t *>(values);
+      m_KeyFlip = signed16 ? 0x8000 : 0;
+      m_KeyOwner = valueOwner;
+      return;
+    }
+  }
+  // A copy of the keys, 2 bytes per voxel, first touched by the threads that fill it.
+  m_OwnKeys.reset(new uint16_t[this->GetNumberOfVoxels()]);
+  uint16_t *                                              keys = m_OwnKeys.get();
+  const DRRAttenuationVolumeDetail::IntegerKeyMap<TValue> keyOf(offset);
+  ParallelizeBlocks(
+    this->GetNumberOfBlocks(),
+    [&](uint64_t b) {
+      const uint64_t end = this->GetBlockBegin(b + 1);
+      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+      {
+        uint32_t key = 0;
+        keyOf(values[v], key);
+        keys[v] = static_cast<uint16_t>(key);
+      }
+    },
+    threader);
+  m_Keys = keys;
+  m_KeyFlip = 0;
 }
 
 template <typename TValue>
@@ -310,58 +349,19 @@ DRRAttenuationVolume::BuildLevels(const TValue *              values,
     m_LargestMu = *std::max_element(m_LevelMu.begin(), m_LevelMu.end());
   }
 
-  // Counting sort by level over the same blocks: each block's voxels of a level follow those of the blocks before
-  // it, so every level lists its voxels in increasing order, whatever the threads. Per block and key, where its next
-  // voxel goes and whether it moves on (air stays on a slot of its own past the lists, so that the loop below has no
-  // branch to mispredict where air and tissue mix).
-  const uint64_t                     numberOfListed = m_LevelStart.back();
-  std::vector<std::vector<uint32_t>> position(numberOfBlocks);
-  std::vector<uint32_t>              step(span);
-  std::vector<uint64_t>              next(m_LevelStart.begin(), m_LevelStart.end() - 1);
+  // The key table, and what the level lists need (MaterializeLevelVoxels()).
+  m_KeyMu.assign(DRRAttenuationVolumeDetail::MaximumKey + 1, 0.0f);
   for (uint32_t k = 0; k < span; ++k)
   {
-    step[k] = levelOfKey[k] != std::numeric_limits<uint32_t>::max() ? 1 : 0;
-  }
-  for (uint64_t b = 0; b < numberOfBlocks; ++b)
-  {
-    const std::vector<uint32_t> & blockCounts = counts.Counts[b];
-    position[b].resize(blockCounts.size());
-    for (size_t k = 0; k < blockCounts.size(); ++k)
+    if (levelOfKey[k] != std::numeric_limits<uint32_t>::max())
     {
-      const uint32_t level = levelOfKey[counts.Lowest[b] - lowest + k];
-      if (level != std::numeric_limits<uint32_t>::max())
-      {
-        position[b][k] = static_cast<uint32_t>(next[level]);
-        next[level] += blockCounts[k];
-      }
-      else
-      {
-        position[b][k] = static_cast<uint32_t>(numberOfListed + b);
-      }
+      m_KeyMu[lowest + k] = m_LevelMu[levelOfKey[k]];
     }
   }
-  // Written only here, first touched by the threads that fill it: no zero-fill. One scratch slot per block for air.
-  m_LevelVoxels.reset(new uint32_t[numberOfListed + numberOfBlocks]);
-  uint32_t * voxels = m_LevelVoxels.get();
-  ParallelizeBlocks(
-    numberOfBlocks,
-    [&](uint64_t b) {
-      uint32_t *       blockPosition = position[b].data();
-      const uint32_t * blockStep = step.data() + (counts.Lowest[b] - lowest);
-      const uint32_t   blockLowest = counts.Lowest[b];
-      const uint64_t   end = this->GetBlockBegin(b + 1);
-      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
-      {
-        uint32_t key = 0;
-        keyOf(values[v], key);
-        key -= blockLowest;
-        const uint32_t slot = blockPosition[key];
-        DRRAttenuationVolumeDetail::PrefetchNextLineForWrite(voxels + slot);
-        voxels[slot] = static_cast<uint32_t>(v);
-        blockPosition[key] = slot + blockStep[key];
-      }
-    },
-    threader);
+  m_LevelOfKey = std::move(levelOfKey);
+  m_LowestKey = lowest;
+  m_KeyCounts = counts;
+  (void)threader;
 }
 
 template <typename TValue>

@@ -43,7 +43,8 @@ namespace itk
  * the mass; the coarse image costs 4 raysPerSide^2 rays per pixel (two replicates of raysPerSide^2 antithetic pairs)
  * through F^3 fewer voxels.
  *
- * Tables: |r| per voxel of the padded grid (4 bytes), the sign of r (1 bit), the coarse volume (4 / F^3 bytes).
+ * Tables: the sign of r (1 bit per voxel of the padded grid) and the coarse volume (4 / F^3 bytes per voxel); |r| is
+ * computed from the volume's rows and the coarse means when a sampler reads it (DRRAttenuationVolume::BuildResidual()).
  *
  * \sa PointBasedDRRImageFilter::SetControlVariateFactor()
  * \ingroup PointBasedDRR
@@ -76,7 +77,7 @@ public:
 
   /** Splits volume (its box model; levels or mu per voxel) with coarsening factor F (2 .. MaximumFactor; larger than
    * the volume is allowed: one coarse voxel), on the threads of threader (null: platform threads of its own). The
-   * volume need not outlive this object. */
+   * residual volume reads the volume's rows: it keeps a reference to it. */
   void
   Build(const DRRAttenuationVolume & volume, unsigned int factor, MultiThreaderBase * threader);
 
@@ -130,7 +131,7 @@ public:
   static unsigned int
   ChooseFactor(const DRRAttenuationVolume & volume, const DRRPointProjection & projection);
 
-  /** Bytes held by the split's tables (coarse volume, |r|, signs). */
+  /** Bytes held by the split's tables (coarse volume, signs, and |r| if a consumer materialized it). */
   size_t
   GetTableSizeInBytes() const;
 

@@ -260,7 +260,8 @@ DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
   // On the filter's threads, as many as its work units.
   MultiThreaderBase * threader = this->GetMultiThreader();
   threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  volume->Build(input->GetBufferPointer(), size, *m_TransferFunction, threader);
+  // The pixel container keeps the values alive: 16-bit CT is read in place, not copied.
+  volume->Build(input->GetBufferPointer(), size, *m_TransferFunction, threader, input->GetPixelContainer());
   this->ApplyLabels(*input, *volume);
   m_AttenuationVolume = volume;
   m_AttenuationVolumeInput = input;

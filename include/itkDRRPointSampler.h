@@ -117,6 +117,8 @@ public:
     uint64_t Stratum{ 0 };   ///< the stratum the cursor is in (the sampler's to use)
     uint64_t Position[4]{};  ///< where in its tables, in the sampler's own terms
     double   Mass[2]{};      ///< masses the sampler keeps with the position (1/mm, in its own terms)
+    uint64_t CachedGroup{ ~uint64_t{ 0 } }; ///< which values Cached holds, in the sampler's own terms (none: all ones)
+    float    Cached[64];                    ///< values the sampler read from the volume near the position (its own)
   };
 
   /** What GenerateCoordinates() fills, one entry per sample of the range: voxel coordinates (i, j, k), weights, the

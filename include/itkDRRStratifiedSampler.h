@@ -46,9 +46,10 @@ namespace itk
  * the bricks left out contribute to no pixel.
  *
  * Speed: consecutive points walk the curve forward (a cursor carried through a chunk), skipping whole bricks and
- * 64-voxel groups by their exact masses; no per-point search and no division. Tables: the mu of every non-air voxel
- * (4 bytes) plus, per non-empty brick, its occupancy bits and group masses (about 150 bytes per brick, under half a
- * byte per non-air voxel on CT).
+ * 64-voxel groups by their exact masses; no per-point search and no division. Tables: per non-empty brick, its
+ * occupancy bits and group masses (160 bytes per brick, under a third of a byte per voxel); the mu of a group's voxels
+ * is read from the volume (its keys and table) when the walk enters the group, so the sampler keeps no copy of the
+ * volume.
  *
  * `stratified` in DRRSamplerFactory.
  *
@@ -123,6 +124,17 @@ public:
   size_t
   GetTableSizeInBytes() const override;
 
+  /** What the sampler holds of a non-empty brick: its first voxel, the sum of its voxels' mu (1/mm) and their count. */
+  struct BrickSummary
+  {
+    uint64_t Origin[3];    ///< index of the brick's first voxel (a multiple of 8 per axis)
+    double   MuSum;        ///< sum of mu over the brick's voxels, 1/mm
+    uint64_t NonAirVoxels; ///< voxels of the brick with mu > 0
+  };
+  /** Brick b (0 .. GetNumberOfBricks() - 1, in curve order). */
+  BrickSummary
+  GetBrickSummary(size_t b) const;
+
 protected:
   DRRStratifiedSampler() = default;
   ~DRRStratifiedSampler() override = default;
@@ -130,17 +142,17 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  /** A non-empty 8 x 8 x 8 brick: bit b of Occupancy[g] is voxel 64 g + b in Morton order inside the brick; its mu
-   * is m_Mu[FirstVoxel + the number of occupied voxels before it]. Group masses are exact sums of float mu (at most
-   * 64 terms spanning far fewer than 53 bits), the same in any order. */
+  /** A non-empty 8 x 8 x 8 brick: bit b of Occupancy[g] is voxel 64 g + b in Morton order inside the brick (its mu is
+   * read from the volume, FillGroupMu()). Group masses are exact sums of float mu (at most 64 terms spanning far fewer
+   * than 53 bits), the same in any order. */
   struct Brick
   {
     uint64_t Occupancy[8];
     double   GroupMass[8]; // sum of mu over the group's voxels, 1/mm
     double   Mass;         // sum of the group masses, 1/mm
-    uint32_t FirstVoxel;
-    uint16_t Origin[3]; // brick coordinates (voxel index / 8)
-    uint8_t  LastGroup; // last group with a voxel
+    uint64_t FirstVoxel;   // non-air voxels in the bricks before this one
+    uint16_t Origin[3];    // brick coordinates (voxel index / 8)
+    uint8_t  LastGroup;    // last group with a voxel
   };
 
   /** The bricks a render samples (see MakeViewPlan()); defined with the sampler's code. */
@@ -151,11 +163,19 @@ private:
   AsViewPlan(const DRRSamplerViewPlan & plan);
 
   /* Cursor layout: Position[0] view brick, [1] group, [2] occupancy bits of the group from the current voxel on,
-   * [3] index of the current voxel in m_Mu; Mass[0] mass of the brick before the group, Mass[1] before the voxel. */
+   * [3] unused (0); Mass[0] mass of the brick before the group, Mass[1] before the voxel. */
 
   /** Moves the cursor forward to the voxel holding mass target (1/mm, along the view's curve). */
   void
   Locate(const ViewPlan & plan, double target, Cursor & cursor) const;
+
+  /** mu (1/mm) of the 64 voxels of group `group` (0 .. 7) of a brick, in Morton order, 0 outside the volume. */
+  void
+  FillGroupMu(const Brick & brick, uint64_t group, float * mu) const;
+
+  /** The mu of a group of a brick (index in m_Bricks), from the cursor's cache or read into it. */
+  const float *
+  CachedGroupMu(uint64_t brick, uint64_t group, Cursor & cursor) const;
 
   /** Voxel index of the cursor's voxel. */
   void
@@ -166,12 +186,12 @@ private:
   std::shared_ptr<const ViewPlan>
   KeepBricks(TKeep && keep) const;
 
-  std::vector<Brick>              m_Bricks; // non-empty bricks, Morton order
-  std::unique_ptr<float[]>        m_Mu;     // mu of the non-air voxels, brick by brick, Morton order inside (1/mm)
-  uint64_t                        m_NumberOfNonAirVoxels{ 0 };
-  std::shared_ptr<const ViewPlan> m_WholeVolumePlan; // every brick (the plan without a view)
-  DRRAttenuationVolume::SizeType  m_Size{ { 0, 0, 0 } };
-  double                          m_VoxelVolume{ 0.0 }; // mm^3
+  std::vector<Brick>                 m_Bricks; // non-empty bricks, Morton order
+  DRRAttenuationVolume::ConstPointer m_Volume; // the volume sampled, read group by group
+  uint64_t                           m_NumberOfNonAirVoxels{ 0 };
+  std::shared_ptr<const ViewPlan>    m_WholeVolumePlan; // every brick (the plan without a view)
+  DRRAttenuationVolume::SizeType     m_Size{ { 0, 0, 0 } };
+  double                             m_VoxelVolume{ 0.0 }; // mm^3
 };
 } // namespace itk
 

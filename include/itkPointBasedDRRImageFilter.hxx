@@ -66,6 +66,11 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveControlVariateFactor
     {
       return m_ControlVariate->GetFactor(); // kept points: one split for every pose, chosen at the first
     }
+    if (m_ReusePoints && m_DeclinedControlVariateFactor != 0 && m_ControlVariateVolume == volume &&
+        m_ControlVariateVolumeTime == volume->GetMTime())
+    {
+      return m_DeclinedControlVariateFactor; // kept points: declined at the first pose, for every pose
+    }
     return DRRControlVariate::ChooseFactor(*this->GetAttenuationVolume(), this->MakeProjection());
   }
   return m_ControlVariateFactor;
@@ -82,6 +87,12 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSamplingVolume()
     m_ControlVariate = nullptr; // its tables are large: free them once off
     return *volume;
   }
+  const bool automatic = m_ControlVariateFactor == AutomaticControlVariateFactor;
+  if (automatic && m_DeclinedControlVariateFactor == factor && m_ControlVariateVolume == volume &&
+      m_ControlVariateVolumeTime == volume->GetMTime())
+  {
+    return *volume; // `auto` found this split's residual too large for this volume already
+  }
   if (!m_ControlVariate || m_ControlVariate->GetFactor() != factor || m_ControlVariateVolume != volume ||
       m_ControlVariateVolumeTime != volume->GetMTime())
   {
@@ -90,6 +101,18 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSamplingVolume()
     m_ControlVariate->Build(*volume, factor, this->GetMultiThreader());
     m_ControlVariateVolume = volume;
     m_ControlVariateVolumeTime = volume->GetMTime();
+    m_DeclinedControlVariateFactor = 0;
+    if (automatic &&
+        m_ControlVariate->GetResidualMass() > MaximumAutomaticResidualFraction * m_ControlVariate->GetTotalMass())
+    {
+      // The residual would hold more than the stated fraction of the mass: the points' error would shrink by less
+      // than the coarse image costs (or grow, above 1). `auto` renders without a control variate.
+      itkDebugMacro("control variate F " << factor << " declined: M_r / M = "
+                                         << m_ControlVariate->GetResidualMass() / m_ControlVariate->GetTotalMass());
+      m_DeclinedControlVariateFactor = factor;
+      m_ControlVariate = nullptr;
+      return *volume;
+    }
   }
   return m_ControlVariate->GetResidualVolume();
 }

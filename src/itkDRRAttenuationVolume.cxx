@@ -42,6 +42,15 @@ DRRAttenuationVolume::Reset(const SizeType & size)
   m_LevelMu.clear();
   m_LevelStart.clear();
   m_LevelVoxels.reset();
+  m_LevelVoxelsReady.store(false, std::memory_order_release);
+  m_KeyCounts = KeyCounts{};
+  m_LevelOfKey.clear();
+  m_LowestKey = 0;
+  this->DropKeys();
+  m_ResidualFine = nullptr;
+  m_ResidualCoarse = nullptr;
+  m_ResidualFactor = 0;
+  m_ResidualMuSum = 0.0;
   m_SmallestPositiveMu = 0.0f;
   m_LargestMu = 0.0f;
   m_VoxelChannels.clear();
@@ -54,10 +63,16 @@ DRRAttenuationVolume::ApplyVoxelMask(const uint8_t * keep, MultiThreaderBase * t
 {
   float smallest = std::numeric_limits<float>::max();
   float largest = 0.0f;
+  if (this->IsResidual())
+  {
+    itkExceptionMacro("a residual volume cannot be masked: mask the volume it is the residual of");
+  }
   if (this->HasLevels())
   {
-    // Each level's list, compacted in place: its voxels stay in increasing order; empty levels are dropped.
-    uint32_t *            voxels = m_LevelVoxels.get();
+    // Each level's list, compacted in place: its voxels stay in increasing order; empty levels are dropped. The keys
+    // no longer tell air from tissue: mu comes from the lists from now on.
+    uint32_t * voxels = const_cast<uint32_t *>(this->GetLevelVoxels());
+    this->DropKeys();
     std::vector<float>    levelMu;
     std::vector<uint64_t> levelStart{ 0 };
     uint64_t              next = 0;
@@ -202,7 +217,27 @@ const float *
 DRRAttenuationVolume::MaterializeMu() const
 {
   std::lock_guard<std::mutex> lock(m_MuMutex);
-  if (m_MuReady.load(std::memory_order_acquire) || !this->HasLevels())
+  if (m_MuReady.load(std::memory_order_acquire))
+  {
+    return m_Mu.get();
+  }
+  if (m_Keys || this->IsResidual())
+  {
+    // Row by row through FillMuRow(), in the fixed blocks (platform threads: see ParallelizeBlocks()).
+    auto * mu = new float[this->GetNumberOfVoxels()];
+    ParallelizeBlocks(
+      this->GetNumberOfBlocks(),
+      [&](uint64_t b) {
+        this->ForEachMuRun(this->GetBlockBegin(b),
+                           this->GetBlockBegin(b + 1),
+                           [mu](uint64_t v, const float * m, uint64_t n) { std::copy(m, m + n, mu + v); });
+      },
+      nullptr);
+    m_Mu.reset(mu);
+    m_MuReady.store(true, std::memory_order_release);
+    return mu;
+  }
+  if (!this->HasLevels())
   {
     return m_Mu.get();
   }
@@ -212,13 +247,13 @@ DRRAttenuationVolume::MaterializeMu() const
   // Each block first zeroes a run of voxels that fits the cache, then writes the voxels of every level in it,
   // advancing one cursor per level through the level's increasing voxel list.
   constexpr uint64_t run = uint64_t{ 1 } << 18;
+  const uint32_t *   voxels = this->GetLevelVoxels();
   // Platform threads (see ParallelizeBlocks()): the first call may come from inside a pool thread.
   ParallelizeBlocks(
     this->GetNumberOfBlocks(),
     [&](uint64_t b) {
       const uint64_t        begin = this->GetBlockBegin(b);
       const uint64_t        end = this->GetBlockBegin(b + 1);
-      const uint32_t *      voxels = m_LevelVoxels.get();
       std::vector<uint64_t> cursor(numberOfLevels);
       for (size_t l = 0; l < numberOfLevels; ++l)
       {
@@ -252,6 +287,286 @@ DRRAttenuationVolume::MaterializeMu() const
   m_Mu.reset(mu);
   m_MuReady.store(true, std::memory_order_release);
   return mu;
+}
+
+const uint32_t *
+DRRAttenuationVolume::MaterializeLevelVoxels() const
+{
+  std::lock_guard<std::mutex> lock(m_LevelVoxelsMutex);
+  if (m_LevelVoxelsReady.load(std::memory_order_acquire) || !this->HasLevels() || !m_Keys)
+  {
+    return m_LevelVoxels.get();
+  }
+  const uint64_t numberOfVoxels = this->GetNumberOfVoxels();
+  const uint64_t numberOfBlocks = m_KeyCounts.Lowest.size();
+  if (numberOfVoxels > std::numeric_limits<uint32_t>::max() - numberOfBlocks)
+  {
+    itkExceptionMacro("level lists index their voxels with 32 bits: a volume of "
+                      << numberOfVoxels << " voxels has none (use the stratified sampler, which needs no lists)");
+  }
+  // Counting sort by level over the fixed blocks: each block's voxels of a level follow those of the blocks before
+  // it, so every level lists its voxels in increasing order, whatever the threads. Per block and key, where its next
+  // voxel goes and whether it moves on (air stays on a slot of its own past the lists, so that the loop below has no
+  // branch to mispredict where air and tissue mix).
+  const uint32_t                     none = std::numeric_limits<uint32_t>::max();
+  const uint64_t                     numberOfListed = m_LevelStart.back();
+  std::vector<std::vector<uint32_t>> position(numberOfBlocks);
+  std::vector<uint32_t>              step(m_LevelOfKey.size());
+  std::vector<uint64_t>              next(m_LevelStart.begin(), m_LevelStart.end() - 1);
+  for (size_t k = 0; k < m_LevelOfKey.size(); ++k)
+  {
+    step[k] = m_LevelOfKey[k] != none ? 1 : 0;
+  }
+  for (uint64_t b = 0; b < numberOfBlocks; ++b)
+  {
+    const std::vector<uint32_t> & blockCounts = m_KeyCounts.Counts[b];
+    position[b].resize(blockCounts.size());
+    for (size_t k = 0; k < blockCounts.size(); ++k)
+    {
+      const uint32_t level = m_LevelOfKey[m_KeyCounts.Lowest[b] - m_LowestKey + k];
+      if (level != none)
+      {
+        position[b][k] = static_cast<uint32_t>(next[level]);
+        next[level] += blockCounts[k];
+      }
+      else
+      {
+        position[b][k] = static_cast<uint32_t>(numberOfListed + b);
+      }
+    }
+  }
+  // Written only here, first touched by the threads that fill it: no zero-fill. One scratch slot per block for air.
+  auto *           voxels = new uint32_t[numberOfListed + numberOfBlocks];
+  const uint16_t * keys = m_Keys;
+  const uint16_t   flip = m_KeyFlip;
+  ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      uint32_t *       blockPosition = position[b].data();
+      const uint32_t * blockStep = step.data() + (m_KeyCounts.Lowest[b] - m_LowestKey);
+      const uint32_t   blockLowest = m_KeyCounts.Lowest[b];
+      const uint64_t   end = this->GetBlockBegin(b + 1);
+      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+      {
+        const uint32_t key = static_cast<uint32_t>(static_cast<uint16_t>(keys[v] ^ flip)) - blockLowest;
+        const uint32_t slot = blockPosition[key];
+        DRRAttenuationVolumeDetail::PrefetchNextLineForWrite(voxels + slot);
+        voxels[slot] = static_cast<uint32_t>(v);
+        blockPosition[key] = slot + blockStep[key];
+      }
+    },
+    nullptr);
+  m_LevelVoxels.reset(voxels);
+  m_LevelVoxelsReady.store(true, std::memory_order_release);
+  return voxels;
+}
+
+void
+DRRAttenuationVolume::DropKeys()
+{
+  m_Keys = nullptr;
+  m_KeyFlip = 0;
+  m_OwnKeys.reset();
+  m_KeyOwner = nullptr;
+  m_KeyMu.clear();
+}
+
+template <typename TFunction>
+void
+DRRAttenuationVolume::ForEachMuRun(uint64_t begin, uint64_t end, TFunction && function) const
+{
+  std::vector<float> row(std::min<uint64_t>(m_Size[0], end - begin));
+  for (uint64_t v = begin; v < end;)
+  {
+    const uint64_t i = v % m_Size[0];
+    const uint64_t line = v / m_Size[0];
+    const uint64_t n = std::min(end - v, m_Size[0] - i);
+    this->FillMuRow(i, line % m_Size[1], line / m_Size[1], n, row.data());
+    function(v, row.data(), n);
+    v += n;
+  }
+}
+
+void
+DRRAttenuationVolume::FillMuRowSlow(uint64_t first, uint64_t i, uint64_t j, uint64_t k, uint64_t count, float * out)
+  const
+{
+  if (this->IsResidual())
+  {
+    // In runs of at most 64 voxels on the stack: the samplers read a few voxels at a time.
+    double residual[64];
+    for (uint64_t x = 0; x < count; x += 64)
+    {
+      const uint64_t n = std::min<uint64_t>(64, count - x);
+      this->FillResidualRow(i + x, j, k, n, residual);
+      for (uint64_t y = 0; y < n; ++y)
+      {
+        out[x + y] = static_cast<float>(std::abs(residual[y]));
+      }
+    }
+    return;
+  }
+  const float * mu = this->GetMuBuffer() + first;
+  std::copy(mu, mu + count, out);
+}
+
+void
+DRRAttenuationVolume::FillMuBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni, uint64_t nj, uint64_t nk, float * out)
+  const
+{
+  if (m_Keys || !this->IsResidual())
+  {
+    for (uint64_t z = 0; z < nk; ++z)
+    {
+      for (uint64_t y = 0; y < nj; ++y)
+      {
+        this->FillMuRow(i, j + y, k + z, ni, out + ni * (y + nj * z));
+      }
+    }
+    return;
+  }
+  // The residual: the fine volume's box (air in the padding), less the coarse means, as FillResidualRow().
+  const DRRAttenuationVolume & fine = *m_ResidualFine;
+  const SizeType &             fineSize = fine.GetSize();
+  const SizeType &             coarseSize = m_ResidualCoarse->GetSize();
+  const float *                coarseMu = m_ResidualCoarse->GetMuBuffer();
+  const uint64_t               F = m_ResidualFactor;
+  const uint64_t               insideI = i < fineSize[0] ? std::min(ni, fineSize[0] - i) : 0;
+  // The coarse column of each x of the box, found once (no division per voxel).
+  constexpr uint64_t    stackColumns = 64;
+  uint64_t              columnStack[stackColumns];
+  std::vector<uint64_t> columnHeap(ni > stackColumns ? ni : 0);
+  uint64_t *            column = ni > stackColumns ? columnHeap.data() : columnStack;
+  for (uint64_t x = 0; x < ni; ++x)
+  {
+    column[x] = (i + x) / F;
+  }
+  for (uint64_t z = 0; z < nk; ++z)
+  {
+    const uint64_t coarsePlane = coarseSize[1] * ((k + z) / F);
+    for (uint64_t y = 0; y < nj; ++y)
+    {
+      float *        row = out + ni * (y + nj * z);
+      const bool     rowInside = j + y < fineSize[1] && k + z < fineSize[2];
+      const uint64_t inside = rowInside ? insideI : 0;
+      if (inside > 0)
+      {
+        fine.FillMuRow(i, j + y, k + z, inside, row);
+      }
+      const float * coarseRow = coarseMu + coarseSize[0] * ((j + y) / F + coarsePlane);
+      for (uint64_t x = 0; x < ni; ++x)
+      {
+        const double value = x < inside ? static_cast<double>(row[x]) : 0.0;
+        row[x] = static_cast<float>(std::abs(value - static_cast<double>(coarseRow[column[x]])));
+      }
+    }
+  }
+}
+
+void
+DRRAttenuationVolume::FillResidualRow(uint64_t i, uint64_t j, uint64_t k, uint64_t count, double * out) const
+{
+  if (!this->IsResidual())
+  {
+    itkExceptionMacro("FillResidualRow() reads a residual volume (BuildResidual())");
+  }
+  const DRRAttenuationVolume & fine = *m_ResidualFine;
+  const SizeType &             fineSize = fine.GetSize();
+  const SizeType &             coarseSize = m_ResidualCoarse->GetSize();
+  const uint64_t               F = m_ResidualFactor;
+  const float * coarseRow = m_ResidualCoarse->GetMuBuffer() + coarseSize[0] * (j / F + coarseSize[1] * (k / F));
+  // The fine row's voxels inside the volume, air beyond it (the padding); in runs of at most 64 on the stack.
+  const bool rowInside = j < fineSize[1] && k < fineSize[2];
+  float      fineRow[64];
+  for (uint64_t x = 0; x < count; x += 64)
+  {
+    const uint64_t n = std::min<uint64_t>(64, count - x);
+    const uint64_t first = i + x;
+    const uint64_t inside = rowInside && first < fineSize[0] ? std::min(n, fineSize[0] - first) : 0;
+    if (inside > 0)
+    {
+      fine.FillMuRow(first, j, k, inside, fineRow);
+    }
+    for (uint64_t y = 0; y < n; ++y)
+    {
+      const double coarse = coarseRow[(first + y) / F];
+      const double value = y < inside ? static_cast<double>(fineRow[y]) : 0.0;
+      out[x + y] = value - coarse;
+    }
+  }
+}
+
+void
+DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
+                                    const DRRAttenuationVolume & coarse,
+                                    unsigned int                 factor,
+                                    MultiThreaderBase *          threader)
+{
+  const SizeType & coarseSize = coarse.GetSize();
+  this->Reset(SizeType{ { coarseSize[0] * factor, coarseSize[1] * factor, coarseSize[2] * factor } });
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    if (factor == 0 || coarseSize[a] * factor < fine.GetSize()[a] || (coarseSize[a] - 1) * factor >= fine.GetSize()[a])
+    {
+      itkExceptionMacro("BuildResidual(): the coarse volume (" << coarseSize[a] << " voxels along axis " << a
+                                                               << ") is not the volume (" << fine.GetSize()[a]
+                                                               << ") coarsened by " << factor);
+    }
+  }
+  m_ResidualFine = &fine;
+  m_ResidualCoarse = &coarse;
+  m_ResidualFactor = factor;
+  coarse.GetMuBuffer();
+  // One pass: the extremes of |r| and its sum in the fixed blocks, each block's in voxel order (as ComputeMuSum() of
+  // a volume of mu per voxel).
+  const uint64_t      numberOfBlocks = this->GetNumberOfBlocks();
+  std::vector<double> blockSum(numberOfBlocks, 0.0);
+  std::vector<float>  smallest(numberOfBlocks, std::numeric_limits<float>::max());
+  std::vector<float>  largest(numberOfBlocks, 0.0f);
+  ParallelizeBlocks(
+    numberOfBlocks,
+    [&](uint64_t b) {
+      double sum = 0.0;
+      float  blockSmallest = std::numeric_limits<float>::max();
+      float  blockLargest = 0.0f;
+      this->ForEachMuRun(
+        this->GetBlockBegin(b), this->GetBlockBegin(b + 1), [&](uint64_t, const float * mu, uint64_t n) {
+          for (uint64_t x = 0; x < n; ++x)
+          {
+            sum += mu[x];
+            blockSmallest = std::min(blockSmallest, mu[x] > 0.0f ? mu[x] : std::numeric_limits<float>::max());
+            blockLargest = std::max(blockLargest, mu[x]);
+          }
+        });
+      blockSum[b] = sum;
+      smallest[b] = blockSmallest;
+      largest[b] = blockLargest;
+    },
+    threader);
+  m_ResidualMuSum = 0.0;
+  for (const double sum : blockSum)
+  {
+    m_ResidualMuSum += sum;
+  }
+  m_LargestMu = *std::max_element(largest.begin(), largest.end());
+  m_SmallestPositiveMu = m_LargestMu > 0.0f ? *std::min_element(smallest.begin(), smallest.end()) : 0.0f;
+  this->SetIndexToPhysical(fine.GetIndexToPhysicalMatrix(), fine.GetOrigin());
+  this->Modified();
+}
+
+double
+DRRAttenuationVolume::GetBytesPerVoxel() const
+{
+  const double voxels = static_cast<double>(std::max<uint64_t>(1, this->GetNumberOfVoxels()));
+  double       bytes = 0.0;
+  bytes += m_OwnKeys ? 2.0 * voxels : 0.0;
+  bytes += m_KeyMu.size() * sizeof(float);
+  bytes += m_MuReady.load(std::memory_order_acquire) && m_Mu ? 4.0 * voxels : 0.0;
+  bytes += m_LevelVoxelsReady.load(std::memory_order_acquire) && m_LevelVoxels
+             ? 4.0 * static_cast<double>(m_LevelStart.empty() ? 0 : m_LevelStart.back())
+             : 0.0;
+  bytes += static_cast<double>(m_VoxelChannels.size());
+  return bytes / voxels;
 }
 
 void
@@ -335,6 +650,10 @@ double
 DRRAttenuationVolume::ComputeMuSum() const
 {
   double total = 0.0;
+  if (this->IsResidual())
+  {
+    return m_ResidualMuSum;
+  }
   if (this->HasLevels())
   {
     // count * mu: exact in double for counts below 2^29 (mu has 24 bits), where it equals the sum of the level's
@@ -380,14 +699,20 @@ DRRAttenuationVolume::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "Size: " << m_Size[0] << " x " << m_Size[1] << " x " << m_Size[2] << std::endl;
   os << indent << "IndexToPhysical (mm per index): " << m_IndexToPhysical << std::endl;
   os << indent << "Origin (mm): " << m_Origin << std::endl;
-  if (this->HasLevels())
+  if (this->IsResidual())
   {
-    os << indent << "Levels: " << m_LevelMu.size() << " (" << m_LevelStart.back() << " non-air voxels)" << std::endl;
+    os << indent << "Residual of a control variate, factor " << m_ResidualFactor << std::endl;
+  }
+  else if (this->HasLevels())
+  {
+    os << indent << "Levels: " << m_LevelMu.size() << " (" << m_LevelStart.back() << " non-air voxels)"
+       << (m_Keys ? (m_OwnKeys ? ", keys copied" : ", keys read in place") : "") << std::endl;
   }
   else
   {
     os << indent << "Levels: none (mu per voxel)" << std::endl;
   }
   os << indent << "NumberOfChannels: " << m_NumberOfChannels << std::endl;
+  os << indent << "BytesPerVoxel (beyond the input): " << this->GetBytesPerVoxel() << std::endl;
 }
 } // namespace itk

@@ -23,48 +23,6 @@
 
 namespace itk
 {
-namespace
-{
-/** The residual r = mu - mu_c of the voxels [begin, end) of the padded grid, in order: visit(v, r) (1/mm, in double:
- * the difference of two floats). The coarse voxel of a fine one is found by counters, not divisions. */
-template <typename TVisit>
-void
-VisitResidual(const float *                          mu,
-              const DRRAttenuationVolume::SizeType & fineSize,
-              const float *                          coarseMu,
-              const DRRAttenuationVolume::SizeType & coarseSize,
-              uint64_t                               factor,
-              uint64_t                               begin,
-              uint64_t                               end,
-              TVisit &&                              visit)
-{
-  const uint64_t px = coarseSize[0] * factor;
-  const uint64_t py = coarseSize[1] * factor;
-  uint64_t       i = begin % px;
-  uint64_t       j = (begin / px) % py;
-  uint64_t       k = begin / (px * py);
-  for (uint64_t v = begin; v < end;)
-  {
-    // One row (or what is left of it in the range) at a time: j and k, and so the row's coarse row, are fixed.
-    const uint64_t rowEnd = std::min(end, v + (px - i));
-    const bool     rowInside = j < fineSize[1] && k < fineSize[2];
-    const float *  fineRow = mu + fineSize[0] * (j + fineSize[1] * k);
-    const float *  coarseRow = coarseMu + coarseSize[0] * (j / factor + coarseSize[1] * (k / factor));
-    for (; v < rowEnd; ++v, ++i)
-    {
-      const double coarse = coarseRow[i / factor];
-      const double fine = rowInside && i < fineSize[0] ? static_cast<double>(fineRow[i]) : 0.0;
-      visit(v, fine - coarse);
-    }
-    i = 0;
-    if (++j == py)
-    {
-      j = 0;
-      ++k;
-    }
-  }
-}
-} // namespace
 
 DRRControlVariate::DRRControlVariate()
   : m_CoarseVolume(DRRAttenuationVolume::New()), m_ResidualVolume(DRRAttenuationVolume::New())
@@ -102,30 +60,43 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
   {
     coarse[a] = (fine[a] + F - 1) / F;
   }
-  const float * mu = volume.GetMuBuffer();
-  // Air pads the last blocks: their sums run over the voxels inside, their means over all F^3.
+  // Air pads the last blocks: their sums run over the voxels inside, their means over all F^3. The fine rows are read
+  // once per coarse row; each block sums its voxels k, then j, then i.
   const double inverseBlockVolume = 1.0 / (static_cast<double>(F) * static_cast<double>(F) * static_cast<double>(F));
   m_CoarseVolume->BuildFromMu(
     coarse,
     [&](uint64_t begin, uint64_t end, float * coarseMu) {
-      for (uint64_t c = begin; c < end; ++c)
+      std::vector<float>  row;
+      std::vector<double> sum;
+      for (uint64_t c = begin; c < end;)
       {
         const uint64_t ci = c % coarse[0];
         const uint64_t cj = (c / coarse[0]) % coarse[1];
         const uint64_t ck = c / (coarse[0] * coarse[1]);
-        double         sum = 0.0;
+        const uint64_t n = std::min(end - c, coarse[0] - ci); // blocks of this coarse row in the range
+        const uint64_t first = ci * F;
+        const uint64_t width = std::min(fine[0], (ci + n) * F) - first;
+        row.resize(width);
+        sum.assign(n, 0.0);
         for (uint64_t k = ck * F; k < std::min(fine[2], ck * F + F); ++k)
         {
           for (uint64_t j = cj * F; j < std::min(fine[1], cj * F + F); ++j)
           {
-            const float * row = mu + fine[0] * (j + fine[1] * k);
-            for (uint64_t i = ci * F; i < std::min(fine[0], ci * F + F); ++i)
+            volume.FillMuRow(first, j, k, width, row.data());
+            for (uint64_t q = 0; q < n; ++q)
             {
-              sum += row[i];
+              for (uint64_t i = q * F; i < std::min(width, q * F + F); ++i)
+              {
+                sum[q] += row[i];
+              }
             }
           }
         }
-        coarseMu[c] = static_cast<float>(sum * inverseBlockVolume);
+        for (uint64_t q = 0; q < n; ++q)
+        {
+          coarseMu[c + q] = static_cast<float>(sum[q] * inverseBlockVolume);
+        }
+        c += n;
       }
     },
     threader);
@@ -149,22 +120,11 @@ DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume, Mult
   const uint64_t                       F = m_Factor;
   const DRRAttenuationVolume::SizeType fine = volume.GetSize();
   const DRRAttenuationVolume::SizeType coarse = m_CoarseVolume->GetSize();
-  const DRRAttenuationVolume::SizeType padded{ { coarse[0] * F, coarse[1] * F, coarse[2] * F } };
-  const float *                        mu = volume.GetMuBuffer();
-  const float *                        coarseMu = m_CoarseVolume->GetMuBuffer();
-  m_ResidualVolume->BuildFromMu(
-    padded,
-    [&](uint64_t begin, uint64_t end, float * magnitude) {
-      VisitResidual(mu, fine, coarseMu, coarse, F, begin, end, [magnitude](uint64_t v, double r) {
-        magnitude[v] = static_cast<float>(std::abs(r));
-      });
-    },
-    threader);
-  m_ResidualVolume->SetIndexToPhysical(volume.GetIndexToPhysicalMatrix(), volume.GetOrigin());
-
-  // The signs, in blocks of whole 64-voxel words (each word written by one thread).
-  const uint64_t numberOfVoxels = m_ResidualVolume->GetNumberOfVoxels();
-  const uint64_t numberOfWords = (numberOfVoxels + 63) / 64;
+  m_ResidualVolume->BuildResidual(volume, *m_CoarseVolume, m_Factor, threader);
+  // The signs, in blocks of whole 64-voxel words (each word written by one thread), row by row.
+  const DRRAttenuationVolume::SizeType & padded = m_ResidualVolume->GetSize();
+  const uint64_t                         numberOfVoxels = m_ResidualVolume->GetNumberOfVoxels();
+  const uint64_t                         numberOfWords = (numberOfVoxels + 63) / 64;
   m_NegativeVoxels.assign(numberOfWords, 0);
   uint64_t *     words = m_NegativeVoxels.data();
   const uint64_t numberOfBlocks = DRRAttenuationVolume::ComputeNumberOfBlocks(numberOfVoxels);
@@ -173,9 +133,19 @@ DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume, Mult
     [&](uint64_t b) {
       const uint64_t begin = 64 * (numberOfWords * b / numberOfBlocks);
       const uint64_t end = std::min(numberOfVoxels, 64 * (numberOfWords * (b + 1) / numberOfBlocks));
-      VisitResidual(mu, fine, coarseMu, coarse, F, begin, end, [words](uint64_t v, double r) {
-        words[v >> 6] |= static_cast<uint64_t>(r < 0.0) << (v & 63);
-      });
+      double         residual[64];
+      for (uint64_t v = begin; v < end;)
+      {
+        const uint64_t i = v % padded[0];
+        const uint64_t line = v / padded[0];
+        const uint64_t n = std::min<uint64_t>({ end - v, padded[0] - i, 64 });
+        m_ResidualVolume->FillResidualRow(i, line % padded[1], line / padded[1], n, residual);
+        for (uint64_t x = 0; x < n; ++x)
+        {
+          words[(v + x) >> 6] |= static_cast<uint64_t>(residual[x] < 0.0) << ((v + x) & 63);
+        }
+        v += n;
+      }
     },
     threader);
 }
@@ -240,7 +210,7 @@ size_t
 DRRControlVariate::GetTableSizeInBytes() const
 {
   return static_cast<size_t>(m_CoarseVolume->GetNumberOfVoxels() * sizeof(float) +
-                             m_ResidualVolume->GetNumberOfVoxels() * sizeof(float) +
+                             m_ResidualVolume->GetBytesPerVoxel() * m_ResidualVolume->GetNumberOfVoxels() +
                              m_NegativeVoxels.size() * sizeof(uint64_t));
 }
 

@@ -121,8 +121,8 @@ DRRStratifiedSampler::AsViewPlan(const DRRSamplerViewPlan & plan)
 void
 DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
 {
-  const auto &  size = volume.GetSize();
-  const float * mu = volume.GetMuBuffer();
+  const auto & size = volume.GetSize();
+  m_Volume = &volume;
   m_Size = size;
   m_VoxelVolume = volume.GetVoxelVolume();
   std::array<uint64_t, 3> bricksPerAxis;
@@ -135,23 +135,20 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
                                                 << " voxels along an axis are not supported (got " << size[a] << ")");
     }
   }
-  if (volume.GetNumberOfVoxels() > std::numeric_limits<uint32_t>::max())
-  {
-    itkExceptionMacro("volumes of more than 2^32 - 1 voxels are not supported (got " << volume.GetNumberOfVoxels()
-                                                                                     << ")");
-  }
   const MortonInsideBrick & morton = GetMortonInsideBrick();
 
-  // Pass 1, one row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy and group masses. Group
-  // masses are exact sums (see Brick), so the order of this pass does not matter.
+  // One pass, one row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy and group masses. Group
+  // masses are exact sums (see Brick), so the order of this pass does not matter. The sampler keeps no mu: the walk
+  // reads a group's voxels from the volume when it reaches it (FillGroupMu()).
   const uint64_t           numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
-  std::unique_ptr<Brick[]> grid(new Brick[bricksPerAxis[0] * numberOfBrickRows]); // each set in pass 1
+  std::unique_ptr<Brick[]> grid(new Brick[bricksPerAxis[0] * numberOfBrickRows]); // each set in the pass
   DRRAttenuationVolume::ParallelizeBlocks(
     numberOfBrickRows,
     [&](uint64_t brickRow) {
-      const uint64_t by = brickRow % bricksPerAxis[1];
-      const uint64_t bz = brickRow / bricksPerAxis[1];
-      Brick *        row = grid.get() + brickRow * bricksPerAxis[0];
+      const uint64_t     by = brickRow % bricksPerAxis[1];
+      const uint64_t     bz = brickRow / bricksPerAxis[1];
+      Brick *            row = grid.get() + brickRow * bricksPerAxis[0];
+      std::vector<float> line(size[0]);
       for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
       {
         row[bx] = Brick{};
@@ -163,7 +160,7 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
       {
         for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
         {
-          const float * line = mu + size[0] * (by * brickSide + dy + size[1] * (bz * brickSide + dz));
+          volume.FillMuRow(0, by * brickSide + dy, bz * brickSide + dz, size[0], line.data());
           for (uint64_t x = 0; x < size[0]; ++x)
           {
             if (line[x] > 0.0f)
@@ -179,7 +176,7 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
     },
     nullptr);
 
-  // The non-empty bricks in Morton order, and where their voxels start.
+  // The non-empty bricks in Morton order, and the non-air voxels before each.
   std::vector<std::pair<uint64_t, uint64_t>> coded; // (Morton code, grid index)
   for (uint64_t g = 0; g < bricksPerAxis[0] * numberOfBrickRows; ++g)
   {
@@ -201,7 +198,7 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
   {
     Brick & brick = m_Bricks[b];
     brick = grid[coded[b].second];
-    brick.FirstVoxel = static_cast<uint32_t>(numberOfVoxels);
+    brick.FirstVoxel = numberOfVoxels;
     brick.Mass = 0.0;
     for (unsigned int g = 0; g < 8; ++g)
     {
@@ -212,36 +209,56 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
     totalMass += brick.Mass;
   }
   grid.reset();
-
-  // Pass 2, fixed blocks of bricks: the mu of the occupied voxels in Morton order.
-  // Not value-initialized: the parallel pass below first-touches it (no single-threaded zero fill of ~4 bytes per
-  // non-air voxel).
-  m_Mu.reset(new float[numberOfVoxels]);
   m_NumberOfNonAirVoxels = numberOfVoxels;
-  constexpr uint64_t bricksPerBlock = 256;
-  DRRAttenuationVolume::ParallelizeBlocks((m_Bricks.size() + bricksPerBlock - 1) / bricksPerBlock,
-                                          [&](uint64_t block) {
-                                            const uint64_t end =
-                                              std::min<uint64_t>(m_Bricks.size(), (block + 1) * bricksPerBlock);
-                                            for (uint64_t b = block * bricksPerBlock; b < end; ++b)
-                                            {
-                                              const Brick & brick = m_Bricks[b];
-                                              float *       out = m_Mu.get() + brick.FirstVoxel;
-                                              for (unsigned int g = 0; g < 8; ++g)
-                                              {
-                                                for (uint64_t bits = brick.Occupancy[g]; bits; bits &= bits - 1)
-                                                {
-                                                  const auto v = VoxelInBrick(brick.Origin, 64 * g + LowestBit(bits));
-                                                  *out++ = mu[v[0] + size[0] * (v[1] + size[1] * uint64_t{ v[2] })];
-                                                }
-                                              }
-                                            }
-                                          },
-                                          nullptr);
   m_TotalMass = totalMass * m_VoxelVolume;
   m_MaximumWeight = 1.0;
   m_WholeVolumePlan = this->KeepBricks([](const Brick &) { return true; });
   this->Modified();
+}
+
+const float *
+DRRStratifiedSampler::CachedGroupMu(uint64_t brick, uint64_t group, Cursor & cursor) const
+{
+  const uint64_t id = 8 * brick + group;
+  if (cursor.CachedGroup != id)
+  {
+    this->FillGroupMu(m_Bricks[brick], group, cursor.Cached);
+    cursor.CachedGroup = id;
+  }
+  return cursor.Cached;
+}
+
+void
+DRRStratifiedSampler::FillGroupMu(const Brick & brick, uint64_t group, float * mu) const
+{
+  // Group g holds the Morton positions 64 g .. 64 g + 63: the 4 x 4 x 4 voxels at (4 (g & 1), 4 ((g >> 1) & 1),
+  // 4 (g >> 2)) in the brick. Read as one box from the volume (clipped to it), then put in Morton order.
+  uint64_t first[3], count[3];
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    first[a] = brick.Origin[a] * brickSide + 4 * ((group >> a) & 1u);
+    count[a] = first[a] < m_Size[a] ? std::min<uint64_t>(4, m_Size[a] - first[a]) : 0;
+  }
+  std::fill(mu, mu + 64, 0.0f);
+  if (count[0] == 0 || count[1] == 0 || count[2] == 0)
+  {
+    return;
+  }
+  float box[64];
+  m_Volume->FillMuBox(first[0], first[1], first[2], count[0], count[1], count[2], box);
+  const MortonInsideBrick & morton = GetMortonInsideBrick();
+  for (uint64_t z = 0; z < count[2]; ++z)
+  {
+    for (uint64_t y = 0; y < count[1]; ++y)
+    {
+      for (uint64_t x = 0; x < count[0]; ++x)
+      {
+        const uint64_t inBrick =
+          (first[0] % brickSide + x) | (first[1] % brickSide + y) << 3 | (first[2] % brickSide + z) << 6;
+        mu[morton.Code[inBrick] & 63u] = box[x + count[0] * (y + count[1] * z)];
+      }
+    }
+  }
 }
 
 template <typename TKeep>
@@ -343,7 +360,7 @@ DRRStratifiedSampler::Locate(const ViewPlan & plan, double target, Cursor & curs
     cursor.Position[0] = b;
     cursor.Position[1] = 0;
     cursor.Position[2] = m_Bricks[viewBricks[b]].Occupancy[0];
-    cursor.Position[3] = m_Bricks[viewBricks[b]].FirstVoxel;
+    cursor.Position[3] = 0;
     cursor.Mass[0] = 0.0;
     cursor.Mass[1] = 0.0;
   }
@@ -353,34 +370,25 @@ DRRStratifiedSampler::Locate(const ViewPlan & plan, double target, Cursor & curs
   if (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest)
   {
     // Skip whole groups, then start the walk at the first voxel of the group reached.
-    uint64_t voxel = brick.FirstVoxel;
-    for (uint64_t g = 0; g < group; ++g)
-    {
-      voxel += uint64_t{ DRRPopCount64(brick.Occupancy[g]) };
-    }
     do
     {
       cursor.Mass[0] += brick.GroupMass[group];
-      voxel += uint64_t{ DRRPopCount64(brick.Occupancy[group]) };
       ++group;
     } while (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest);
     cursor.Position[1] = group;
     cursor.Position[2] = brick.Occupancy[group];
-    cursor.Position[3] = voxel;
     cursor.Mass[1] = cursor.Mass[0];
   }
   // Walk the voxels of the group (never past its last one, which takes what rounding leaves).
-  uint64_t bits = cursor.Position[2];
-  uint64_t voxel = cursor.Position[3];
-  double   before = cursor.Mass[1];
-  for (uint64_t next = bits & (bits - 1); next != 0 && before + m_Mu[voxel] <= rest; next &= next - 1)
+  const float * groupMu = this->CachedGroupMu(viewBricks[b], group, cursor);
+  uint64_t      bits = cursor.Position[2];
+  double        before = cursor.Mass[1];
+  for (uint64_t next = bits & (bits - 1); next != 0 && before + groupMu[LowestBit(bits)] <= rest; next &= next - 1)
   {
-    before += m_Mu[voxel];
+    before += groupMu[LowestBit(bits)];
     bits = next;
-    ++voxel;
   }
   cursor.Position[2] = bits;
-  cursor.Position[3] = voxel;
   cursor.Mass[1] = before;
 }
 
@@ -534,20 +542,21 @@ DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
   };
   const double   inverseStep = 1.0 / step;
   const uint64_t endIndex = firstIndex + range.Count;
-  const float *  mu = m_Mu.get();
   uint64_t       index = firstIndex;
   // The cursor (see Locate()) in locals: it changes at every voxel.
-  uint64_t b = cursor.Position[0], group = cursor.Position[1], bits = cursor.Position[2], voxel = cursor.Position[3];
+  uint64_t b = cursor.Position[0], group = cursor.Position[1], bits = cursor.Position[2];
   double   groupStart = cursor.Mass[0], before = cursor.Mass[1];
+  // The group's mu in Morton order, read from the volume when the walk enters the group.
+  const float * mu = this->CachedGroupMu(viewBricks[b], group, cursor);
   while (index < endIndex)
   {
     const Brick & brick = m_Bricks[viewBricks[b]];
     const double  base = viewPrefix[b];
     const bool    lastGroupOfView = b + 1 == viewBricks.size() && group == brick.LastGroup;
     // The voxels left in the group; the last voxel of the view takes what rounding leaves.
-    for (; bits; bits &= bits - 1, ++voxel)
+    for (; bits; bits &= bits - 1)
     {
-      const double   end = before + mu[voxel];
+      const double   end = before + mu[LowestBit(bits)];
       const bool     lastVoxel = lastGroupOfView && !(bits & (bits - 1));
       const uint64_t last = lastVoxel ? endIndex : std::min<uint64_t>(countBelow((base + end) * inverseStep), endIndex);
       if (last > index)
@@ -589,16 +598,16 @@ DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
       {
         ++group;
       }
-      voxel = m_Bricks[viewBricks[b]].FirstVoxel;
       groupStart = 0.0;
       before = 0.0;
     }
     bits = m_Bricks[viewBricks[b]].Occupancy[group];
+    mu = this->CachedGroupMu(viewBricks[b], group, cursor);
   }
   cursor.Position[0] = b;
   cursor.Position[1] = group;
   cursor.Position[2] = bits;
-  cursor.Position[3] = voxel;
+  cursor.Position[3] = 0;
   cursor.Mass[0] = groupStart;
   cursor.Mass[1] = before;
   for (uint64_t s = 0; s < range.Count; ++s)
@@ -613,7 +622,25 @@ DRRStratifiedSampler::GetTableSizeInBytes() const
   const size_t wholeVolumePlan = m_WholeVolumePlan ? m_WholeVolumePlan->Bricks.capacity() * sizeof(uint32_t) +
                                                        m_WholeVolumePlan->Prefix.capacity() * sizeof(double)
                                                    : 0;
-  return m_NumberOfNonAirVoxels * sizeof(float) + m_Bricks.size() * sizeof(Brick) + wholeVolumePlan;
+  return m_Bricks.size() * sizeof(Brick) + wholeVolumePlan;
+}
+
+DRRStratifiedSampler::BrickSummary
+DRRStratifiedSampler::GetBrickSummary(size_t b) const
+{
+  const Brick & brick = m_Bricks.at(b);
+  BrickSummary  summary;
+  summary.NonAirVoxels = 0;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    summary.Origin[a] = uint64_t{ brick.Origin[a] } * brickSide;
+  }
+  for (const uint64_t word : brick.Occupancy)
+  {
+    summary.NonAirVoxels += uint64_t{ DRRPopCount64(word) };
+  }
+  summary.MuSum = brick.Mass;
+  return summary;
 }
 
 void

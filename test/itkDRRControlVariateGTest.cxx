@@ -364,4 +364,33 @@ TEST(DRRControlVariate, RefusesTheTentKernelThePaperCountAndFactorOne)
   EXPECT_NO_THROW(filter->Update());
   EXPECT_GE(filter->GetControlVariate()->GetFactor(), 2u);
 }
+
+// `auto` never keeps a split whose residual holds more than MaximumAutomaticResidualFraction of the mass: a one-slice
+// volume's F = 2 blocks average the slice with the air that pads it, so |r| is as large as mu itself.
+TEST(DRRControlVariate, AutomaticFactorIsDeclinedWhereTheResidualExceedsItsStatedFraction)
+{
+  const auto slice = MakeMuVolume({ { 16, 16, 1 } }, 0.0f);
+  for (itk::SizeValueType v = 0; v < 256; ++v)
+  {
+    slice->GetBufferPointer()[v] = 0.01f + 0.0001f * static_cast<float>(v % 17);
+  }
+  const auto geometry = AlignedParallelGeometry(16, 1, Pt(7.5, 7.5, 0.0));
+  auto       explicitTwo = MakeFilter(slice, geometry, 2);
+  explicitTwo->Update();
+  ASSERT_NE(explicitTwo->GetControlVariate(), nullptr);
+  const double fraction =
+    explicitTwo->GetControlVariate()->GetResidualMass() / explicitTwo->GetControlVariate()->GetTotalMass();
+  EXPECT_GT(fraction, FilterType::MaximumAutomaticResidualFraction); // asked for, it is built all the same
+  auto automatic = MakeFilter(slice, geometry, FilterType::AutomaticControlVariateFactor);
+  automatic->Update();
+  EXPECT_EQ(automatic->GetControlVariate(), nullptr) << "M_r / M = " << fraction;
+  // A smooth volume keeps its split under `auto`.
+  const auto smooth = MakeMuVolume({ { 16, 16, 16 } }, 0.02f);
+  auto       kept =
+    MakeFilter(smooth, AlignedParallelGeometry(16, 16, Pt(7.5, 7.5, 7.5)), FilterType::AutomaticControlVariateFactor);
+  kept->Update();
+  ASSERT_NE(kept->GetControlVariate(), nullptr);
+  EXPECT_LE(kept->GetControlVariate()->GetResidualMass(),
+            FilterType::MaximumAutomaticResidualFraction * kept->GetControlVariate()->GetTotalMass());
+}
 } // namespace

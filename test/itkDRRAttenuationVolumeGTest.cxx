@@ -1,0 +1,356 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// The attenuation model held once (issue 27): 16-bit keys read in place with a table of mu per key, residual volumes
+// computed from rows, and the stratified sampler's brick sums read from them.
+#include "itkDRRAttenuationVolume.h"
+#include "itkDRRControlVariate.h"
+#include "itkDRRStratifiedSampler.h"
+#include "itkDRRTransferFunction.h"
+#include "itkImportImageContainer.h"
+
+#include "gtest/gtest.h"
+
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace
+{
+using TransferSetup = std::function<void(itk::DRRTransferFunction *)>;
+
+/** The transfer functions the lookup must reproduce, named. */
+std::vector<std::pair<std::string, TransferSetup>>
+TransferFunctions()
+{
+  return {
+    { "natural 60 keV", [](itk::DRRTransferFunction *) {} },
+    { "natural 120 keV, air below -900 HU",
+      [](itk::DRRTransferFunction * t) {
+        t->SetEffectiveEnergyInKeV(120.0);
+        t->SetAirThreshold(-900.0);
+      } },
+    { "mu_water 0.0173 /mm", [](itk::DRRTransferFunction * t) { t->SetMuWaterPerMillimeter(0.0173); } },
+    { "piecewise linear",
+      [](itk::DRRTransferFunction * t) {
+        t->SetMode(itk::DRRTransferFunction::ModeEnum::PiecewiseLinear);
+        t->SetPiecewiseLinearPoints({ { -1000.0, 0.0 }, { 0.0, 0.02 }, { 1000.0, 0.05 }, { 3000.0, 0.11 } });
+      } },
+  };
+}
+
+/** A 64 x 32 x 32 volume holding every int16 value once, shuffled. */
+std::vector<int16_t>
+EveryInt16Value()
+{
+  std::vector<int16_t> values(65536);
+  for (size_t v = 0; v < values.size(); ++v)
+  {
+    values[v] = static_cast<int16_t>(static_cast<int32_t>(v) - 32768);
+  }
+  std::mt19937_64 random(27);
+  std::shuffle(values.begin(), values.end(), random);
+  return values;
+}
+
+const itk::DRRAttenuationVolume::SizeType everySize{ { 64, 32, 32 } };
+
+/** Every voxel's mu read by rows (FillMuRow()) and by boxes (FillMuBox()). */
+std::vector<float>
+ReadByRows(const itk::DRRAttenuationVolume & volume)
+{
+  const auto &       size = volume.GetSize();
+  std::vector<float> mu(volume.GetNumberOfVoxels());
+  for (uint64_t k = 0; k < size[2]; ++k)
+  {
+    for (uint64_t j = 0; j < size[1]; ++j)
+    {
+      volume.FillMuRow(0, j, k, size[0], mu.data() + size[0] * (j + size[1] * k));
+    }
+  }
+  return mu;
+}
+
+std::vector<float>
+ReadByBoxes(const itk::DRRAttenuationVolume & volume, uint64_t side)
+{
+  const auto &       size = volume.GetSize();
+  std::vector<float> mu(volume.GetNumberOfVoxels());
+  std::vector<float> box(side * side * side);
+  for (uint64_t k = 0; k < size[2]; k += side)
+  {
+    for (uint64_t j = 0; j < size[1]; j += side)
+    {
+      for (uint64_t i = 0; i < size[0]; i += side)
+      {
+        const uint64_t ni = std::min(side, size[0] - i), nj = std::min(side, size[1] - j),
+                       nk = std::min(side, size[2] - k);
+        volume.FillMuBox(i, j, k, ni, nj, nk, box.data());
+        for (uint64_t z = 0; z < nk; ++z)
+        {
+          for (uint64_t y = 0; y < nj; ++y)
+          {
+            for (uint64_t x = 0; x < ni; ++x)
+            {
+              mu[i + x + size[0] * (j + y + size[1] * (k + z))] = box[x + ni * (y + nj * z)];
+            }
+          }
+        }
+      }
+    }
+  }
+  return mu;
+}
+
+/** The first voxel where two mu images differ, as text (empty if none). */
+std::string
+FirstDifference(const std::vector<float> & a, const float * b, const std::vector<int16_t> * values = nullptr)
+{
+  for (size_t v = 0; v < a.size(); ++v)
+  {
+    if (std::memcmp(&a[v], &b[v], sizeof(float)) != 0)
+    {
+      return "voxel " + std::to_string(v) + (values ? " (value " + std::to_string((*values)[v]) + ")" : "") + ": " +
+             std::to_string(a[v]) + " vs " + std::to_string(b[v]);
+    }
+  }
+  return {};
+}
+} // namespace
+
+// The table of mu per key is the transfer function's float mu for every int16 value, read in place (the pixel
+// container kept), copied to keys, or given as float values: the same bits by rows, boxes and GetMuBuffer().
+TEST(DRRAttenuationVolume, KeyLookupEqualsTheTransferFunctionForEveryInt16Value)
+{
+  const std::vector<int16_t> values = EveryInt16Value();
+  std::vector<float>         asFloat(values.begin(), values.end());
+  for (const auto & named : TransferFunctions())
+  {
+    auto transfer = itk::DRRTransferFunction::New();
+    named.second(transfer);
+    std::vector<float> expected(values.size());
+    for (size_t v = 0; v < values.size(); ++v)
+    {
+      expected[v] = static_cast<float>(transfer->Evaluate(static_cast<double>(values[v])));
+    }
+    auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
+    auto inPlace = itk::DRRAttenuationVolume::New();
+    inPlace->Build(values.data(), everySize, *transfer, nullptr, owner.GetPointer());
+    auto copied = itk::DRRAttenuationVolume::New();
+    copied->Build(values.data(), everySize, *transfer, nullptr);
+    auto fromFloat = itk::DRRAttenuationVolume::New();
+    fromFloat->Build(asFloat.data(), everySize, *transfer, nullptr);
+    // The copy costs its 2 bytes per voxel; in place, nothing per voxel (the key table aside).
+    EXPECT_DOUBLE_EQ(copied->GetBytesPerVoxel() - inPlace->GetBytesPerVoxel(), 2.0) << named.first;
+    const std::vector<std::pair<std::string, itk::DRRAttenuationVolume *>> volumes{
+      { "in place", inPlace.GetPointer() }, { "copied", copied.GetPointer() }, { "float", fromFloat.GetPointer() }
+    };
+    for (const auto & volume : volumes)
+    {
+      const std::string context = named.first + ", " + volume.first;
+      ASSERT_TRUE(volume.second->HasLevels()) << context;
+      EXPECT_EQ(FirstDifference(ReadByRows(*volume.second), expected.data(), &values), "") << context << " by rows";
+      EXPECT_EQ(FirstDifference(ReadByBoxes(*volume.second, 4), expected.data(), &values), "")
+        << context << " by boxes";
+      EXPECT_EQ(FirstDifference(expected, volume.second->GetMuBuffer(), &values), "") << context << " materialized";
+    }
+  }
+}
+
+// A 16-bit CT read in place costs nothing per voxel until a consumer asks for mu or level lists, and they are then
+// built from the keys.
+TEST(DRRAttenuationVolume, InPlaceKeysAddNoBytePerVoxelUntilMuOrLevelListsAreAskedFor)
+{
+  const itk::DRRAttenuationVolume::SizeType size{ { 256, 128, 64 } };
+  std::vector<int16_t>                      values(size[0] * size[1] * size[2]);
+  std::mt19937                              random(3);
+  std::uniform_int_distribution<int>        hu(-1100, 1500);
+  for (auto & value : values)
+  {
+    value = static_cast<int16_t>(hu(random));
+  }
+  auto transfer = itk::DRRTransferFunction::New();
+  auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
+  auto volume = itk::DRRAttenuationVolume::New();
+  volume->Build(values.data(), size, *transfer, nullptr, owner.GetPointer());
+  EXPECT_LT(volume->GetBytesPerVoxel(), 0.2); // the key table alone
+  const uint32_t * voxels = volume->GetLevelVoxels();
+  ASSERT_NE(voxels, nullptr);
+  const float * mu = volume->GetMuBuffer();
+  uint64_t      wrong = 0;
+  for (size_t l = 0; l < volume->GetNumberOfLevels(); ++l)
+  {
+    for (uint64_t e = volume->GetLevelStart(l); e < volume->GetLevelStart(l + 1); ++e)
+    {
+      wrong += mu[voxels[e]] != volume->GetLevelMu(l) ? 1 : 0;
+      wrong += e > volume->GetLevelStart(l) && voxels[e] <= voxels[e - 1] ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(wrong, 0u);
+  uint64_t nonAir = 0;
+  for (uint64_t v = 0; v < volume->GetNumberOfVoxels(); ++v)
+  {
+    nonAir += mu[v] > 0.0f ? 1 : 0;
+  }
+  EXPECT_EQ(volume->GetLevelStart(volume->GetNumberOfLevels()), nonAir);
+  EXPECT_GT(volume->GetBytesPerVoxel(), 4.0); // mu and the lists, now asked for
+}
+
+// The residual volume computes |mu - mu_c| from the volume's rows and the block means: the same bits as the
+// definition, with the padding past the volume's end (air less the block mean), by rows, by boxes and materialized,
+// and its signed rows and sum agree.
+TEST(DRRAttenuationVolume, ResidualRowsEqualTheDefinitionIncludingThePadding)
+{
+  const itk::DRRAttenuationVolume::SizeType size{ { 37, 22, 13 } }; // no axis a multiple of 2, 4 or 8
+  std::vector<int16_t>                      values(size[0] * size[1] * size[2]);
+  std::mt19937                              random(11);
+  std::uniform_int_distribution<int>        hu(-1000, 2000);
+  for (auto & value : values)
+  {
+    value = static_cast<int16_t>(hu(random));
+  }
+  auto transfer = itk::DRRTransferFunction::New();
+  auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
+  auto volume = itk::DRRAttenuationVolume::New();
+  volume->Build(values.data(), size, *transfer, nullptr, owner.GetPointer());
+  for (const unsigned int F : { 2u, 3u, 4u, 8u })
+  {
+    const std::string context = "F " + std::to_string(F);
+    auto              split = itk::DRRControlVariate::New();
+    split->Build(*volume, F, nullptr);
+    const itk::DRRAttenuationVolume & coarse = split->GetCoarseVolume();
+    const itk::DRRAttenuationVolume & residual = split->GetResidualVolume();
+    ASSERT_TRUE(residual.IsResidual()) << context;
+    const auto & padded = residual.GetSize();
+    const auto & coarseSize = coarse.GetSize();
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      ASSERT_EQ(padded[a], coarseSize[a] * F) << context;
+    }
+    // The definition, voxel by voxel, and the block means from the definition.
+    std::vector<float>  expected(residual.GetNumberOfVoxels());
+    std::vector<double> signedResidual(expected.size());
+    double              sum = 0.0;
+    const float *       coarseMu = coarse.GetMuBuffer();
+    for (uint64_t k = 0; k < padded[2]; ++k)
+    {
+      for (uint64_t j = 0; j < padded[1]; ++j)
+      {
+        for (uint64_t i = 0; i < padded[0]; ++i)
+        {
+          const bool   inside = i < size[0] && j < size[1] && k < size[2];
+          const double fine =
+            inside ? static_cast<float>(transfer->Evaluate(values[i + size[0] * (j + size[1] * k)])) : 0.0;
+          const double   c = coarseMu[i / F + coarseSize[0] * (j / F + coarseSize[1] * (k / F))];
+          const uint64_t v = i + padded[0] * (j + padded[1] * k);
+          signedResidual[v] = fine - c;
+          expected[v] = static_cast<float>(std::abs(fine - c));
+          sum += expected[v];
+        }
+      }
+    }
+    EXPECT_EQ(FirstDifference(ReadByRows(residual), expected.data()), "") << context << " by rows";
+    EXPECT_EQ(FirstDifference(ReadByBoxes(residual, 4), expected.data()), "") << context << " by boxes";
+    EXPECT_EQ(FirstDifference(expected, residual.GetMuBuffer()), "") << context << " materialized";
+    std::vector<double> row(padded[0]);
+    uint64_t            signs = 0;
+    for (uint64_t k = 0; k < padded[2]; ++k)
+    {
+      for (uint64_t j = 0; j < padded[1]; ++j)
+      {
+        residual.FillResidualRow(0, j, k, padded[0], row.data());
+        for (uint64_t i = 0; i < padded[0]; ++i)
+        {
+          const uint64_t v = i + padded[0] * (j + padded[1] * k);
+          signs += row[i] != signedResidual[v] ? 1 : 0;
+          const bool negative = (split->GetNegativeVoxels()[v >> 6] >> (v & 63)) & 1u;
+          signs += negative != (signedResidual[v] < 0.0) ? 1 : 0;
+        }
+      }
+    }
+    EXPECT_EQ(signs, 0u) << context << ": signed rows or sign bits differ from the definition";
+    EXPECT_NEAR(residual.ComputeMuSum(), sum, 1e-9 * sum) << context;
+  }
+}
+
+// The stratified sampler's brick sums (mass and occupancy of every 8^3 brick) against a direct sum over the brick's
+// voxels, on a volume whose bricks are cut by its end on every axis, plain and as a control variate's residual. A
+// pass that drops a brick's boundary layer, or counts one twice, changes the brick's sum.
+TEST(DRRStratifiedSampler, BrickSumsEqualADirectSumOverEveryBrick)
+{
+  const itk::DRRAttenuationVolume::SizeType size{ { 45, 30, 19 } };
+  std::vector<int16_t>                      values(size[0] * size[1] * size[2]);
+  std::mt19937                              random(5);
+  std::uniform_int_distribution<int>        hu(-1300, 1800); // a third of the voxels air
+  for (auto & value : values)
+  {
+    value = static_cast<int16_t>(hu(random));
+  }
+  auto transfer = itk::DRRTransferFunction::New();
+  auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
+  auto volume = itk::DRRAttenuationVolume::New();
+  volume->Build(values.data(), size, *transfer, nullptr, owner.GetPointer());
+  auto split = itk::DRRControlVariate::New();
+  split->Build(*volume, 4, nullptr);
+  const std::vector<const itk::DRRAttenuationVolume *> sampledVolumes{ volume.GetPointer(),
+                                                                       &split->GetResidualVolume() };
+  for (const itk::DRRAttenuationVolume * sampled : sampledVolumes)
+  {
+    const std::string context = sampled->IsResidual() ? "residual" : "volume";
+    auto              sampler = itk::DRRStratifiedSampler::New();
+    sampler->Initialize(*sampled);
+    const std::vector<float> mu = ReadByRows(*sampled);
+    const auto &             grid = sampled->GetSize();
+    // Direct sums per brick, in double.
+    const uint64_t        bricksX = (grid[0] + 7) / 8, bricksY = (grid[1] + 7) / 8, bricksZ = (grid[2] + 7) / 8;
+    std::vector<double>   direct(bricksX * bricksY * bricksZ, 0.0);
+    std::vector<uint64_t> occupied(direct.size(), 0);
+    double                total = 0.0;
+    for (uint64_t k = 0; k < grid[2]; ++k)
+    {
+      for (uint64_t j = 0; j < grid[1]; ++j)
+      {
+        for (uint64_t i = 0; i < grid[0]; ++i)
+        {
+          const float    m = mu[i + grid[0] * (j + grid[1] * k)];
+          const uint64_t brick = i / 8 + bricksX * (j / 8 + bricksY * (k / 8));
+          direct[brick] += m;
+          occupied[brick] += m > 0.0f ? 1 : 0;
+          total += m;
+        }
+      }
+    }
+    uint64_t nonEmpty = 0;
+    for (const uint64_t count : occupied)
+    {
+      nonEmpty += count > 0 ? 1 : 0;
+    }
+    ASSERT_EQ(sampler->GetNumberOfBricks(), nonEmpty) << context;
+    for (size_t b = 0; b < sampler->GetNumberOfBricks(); ++b)
+    {
+      const itk::DRRStratifiedSampler::BrickSummary brick = sampler->GetBrickSummary(b);
+      const uint64_t index = brick.Origin[0] / 8 + bricksX * (brick.Origin[1] / 8 + bricksY * (brick.Origin[2] / 8));
+      EXPECT_NEAR(brick.MuSum, direct[index], 1e-12 * direct[index])
+        << context << ", brick at voxel " << brick.Origin[0] << ", " << brick.Origin[1] << ", " << brick.Origin[2];
+      EXPECT_EQ(brick.NonAirVoxels, occupied[index]) << context << ", brick " << b;
+    }
+    EXPECT_NEAR(sampler->GetTotalMass(), total * sampled->GetVoxelVolume(), 1e-12 * total) << context;
+  }
+}
