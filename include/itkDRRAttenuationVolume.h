@@ -114,9 +114,9 @@ public:
   /** Makes this volume the residual of a control variate: |mu_v - mu_c(block of v)| (1/mm) on the grid of fine padded
    * to a multiple of factor per axis (the padding is air in fine), where coarse holds the block means mu_c, one voxel
    * per factor^3 block. No voxel is stored: FillMuRow() computes a row from fine's rows and coarse's row, and
-   * FillResidualRow() gives the signed residual. Both volumes are kept (referenced). One parallel pass gives the
-   * extremes and the sum of |r| (in the fixed blocks' order, as a volume of mu per voxel would). The index-to-physical
-   * mapping is fine's. */
+   * FillResidualRow() gives the signed residual. Both volumes are kept (referenced). The extremes and the sum of |r|
+   * (in the fixed blocks' order, as a volume of mu per voxel would give them) take one pass, made when first asked
+   * for. The index-to-physical mapping is fine's. */
   void
   BuildResidual(const DRRAttenuationVolume & fine,
                 const DRRAttenuationVolume & coarse,
@@ -353,12 +353,14 @@ public:
   double
   ComputeMaximumMu() const
   {
+    this->EnsureResidualStatistics();
     return m_LargestMu;
   }
   /** Smallest positive mu, 1/mm (kept from Build(); 0 for an all-air volume). */
   double
   GetSmallestPositiveMu() const
   {
+    this->EnsureResidualStatistics();
     return m_SmallestPositiveMu;
   }
 
@@ -414,6 +416,18 @@ private:
   /** Fills mu from the keys, the levels or the residual's rows, once. */
   const float *
   MaterializeMu() const;
+  /** A residual volume's sum and extremes, computed by one pass on the first request (the stratified sampler and the
+   * control variate never ask). */
+  void
+  EnsureResidualStatistics() const
+  {
+    if (m_ResidualCoarse.IsNotNull() && !m_ResidualStatisticsReady.load(std::memory_order_acquire))
+    {
+      this->ComputeResidualStatistics();
+    }
+  }
+  void
+  ComputeResidualStatistics() const;
   /** Forgets the keys (a mask made some voxels air). */
   void
   DropKeys();
@@ -451,16 +465,17 @@ private:
   LightObject::ConstPointer   m_KeyOwner;
   std::vector<float>          m_KeyMu; // mu (1/mm) of every key, 0 for air and absent keys
   // Residual of a control variate (BuildResidual()).
-  ConstPointer         m_ResidualFine;
-  ConstPointer         m_ResidualCoarse;
-  uint64_t             m_ResidualFactor{ 0 };
-  double               m_ResidualMuSum{ 0.0 };
-  float                m_SmallestPositiveMu{ 0.0f };
-  float                m_LargestMu{ 0.0f };
-  MatrixType           m_IndexToPhysical;
-  PointType            m_Origin;
-  std::vector<uint8_t> m_VoxelChannels;
-  unsigned int         m_NumberOfChannels{ 1 };
+  ConstPointer              m_ResidualFine;
+  ConstPointer              m_ResidualCoarse;
+  uint64_t                  m_ResidualFactor{ 0 };
+  mutable double            m_ResidualMuSum{ 0.0 };
+  mutable std::atomic<bool> m_ResidualStatisticsReady{ false };
+  mutable float             m_SmallestPositiveMu{ 0.0f };
+  mutable float             m_LargestMu{ 0.0f };
+  MatrixType                m_IndexToPhysical;
+  PointType                 m_Origin;
+  std::vector<uint8_t>      m_VoxelChannels;
+  unsigned int              m_NumberOfChannels{ 1 };
 };
 } // namespace itk
 

@@ -51,6 +51,7 @@ DRRAttenuationVolume::Reset(const SizeType & size)
   m_ResidualCoarse = nullptr;
   m_ResidualFactor = 0;
   m_ResidualMuSum = 0.0;
+  m_ResidualStatisticsReady.store(false, std::memory_order_release);
   m_SmallestPositiveMu = 0.0f;
   m_LargestMu = 0.0f;
   m_VoxelChannels.clear();
@@ -517,8 +518,21 @@ DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
   m_ResidualCoarse = &coarse;
   m_ResidualFactor = factor;
   coarse.GetMuBuffer();
+  (void)threader; // the statistics' pass, if ever asked for, runs on platform threads (ComputeResidualStatistics())
+  this->SetIndexToPhysical(fine.GetIndexToPhysicalMatrix(), fine.GetOrigin());
+  this->Modified();
+}
+
+void
+DRRAttenuationVolume::ComputeResidualStatistics() const
+{
+  std::lock_guard<std::mutex> lock(m_MuMutex);
+  if (m_ResidualStatisticsReady.load(std::memory_order_acquire))
+  {
+    return;
+  }
   // One pass: the extremes of |r| and its sum in the fixed blocks, each block's in voxel order (as ComputeMuSum() of
-  // a volume of mu per voxel).
+  // a volume of mu per voxel). Platform threads: the first request may come from inside a pool thread.
   const uint64_t      numberOfBlocks = this->GetNumberOfBlocks();
   std::vector<double> blockSum(numberOfBlocks, 0.0);
   std::vector<float>  smallest(numberOfBlocks, std::numeric_limits<float>::max());
@@ -542,7 +556,7 @@ DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
       smallest[b] = blockSmallest;
       largest[b] = blockLargest;
     },
-    threader);
+    nullptr);
   m_ResidualMuSum = 0.0;
   for (const double sum : blockSum)
   {
@@ -550,8 +564,7 @@ DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
   }
   m_LargestMu = *std::max_element(largest.begin(), largest.end());
   m_SmallestPositiveMu = m_LargestMu > 0.0f ? *std::min_element(smallest.begin(), smallest.end()) : 0.0f;
-  this->SetIndexToPhysical(fine.GetIndexToPhysicalMatrix(), fine.GetOrigin());
-  this->Modified();
+  m_ResidualStatisticsReady.store(true, std::memory_order_release);
 }
 
 double
@@ -652,6 +665,7 @@ DRRAttenuationVolume::ComputeMuSum() const
   double total = 0.0;
   if (this->IsResidual())
   {
+    this->EnsureResidualStatistics();
     return m_ResidualMuSum;
   }
   if (this->HasLevels())

@@ -46,7 +46,7 @@ DRRControlVariate::Build(const DRRAttenuationVolume & volume, unsigned int facto
   m_TotalMass = volume.ComputeTotalMass();
   this->BuildCoarseVolume(volume, threader);
   this->BuildResidualVolume(volume, threader);
-  m_ResidualMass = m_ResidualVolume->ComputeTotalMass();
+  // M_r comes with the signs (BuildResidualVolume()): the residual volume's own sum would be another pass.
   this->Modified();
 }
 
@@ -121,19 +121,21 @@ DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume, Mult
   const DRRAttenuationVolume::SizeType fine = volume.GetSize();
   const DRRAttenuationVolume::SizeType coarse = m_CoarseVolume->GetSize();
   m_ResidualVolume->BuildResidual(volume, *m_CoarseVolume, m_Factor, threader);
-  // The signs, in blocks of whole 64-voxel words (each word written by one thread), row by row.
+  // The signs, in blocks of whole 64-voxel words (each word written by one thread), row by row, and M_r.
   const DRRAttenuationVolume::SizeType & padded = m_ResidualVolume->GetSize();
   const uint64_t                         numberOfVoxels = m_ResidualVolume->GetNumberOfVoxels();
   const uint64_t                         numberOfWords = (numberOfVoxels + 63) / 64;
   m_NegativeVoxels.assign(numberOfWords, 0);
-  uint64_t *     words = m_NegativeVoxels.data();
-  const uint64_t numberOfBlocks = DRRAttenuationVolume::ComputeNumberOfBlocks(numberOfVoxels);
+  uint64_t *          words = m_NegativeVoxels.data();
+  const uint64_t      numberOfBlocks = DRRAttenuationVolume::ComputeNumberOfBlocks(numberOfVoxels);
+  std::vector<double> blockMass(numberOfBlocks, 0.0); // sum of |r| per block, in voxel order (1/mm)
   DRRAttenuationVolume::ParallelizeBlocks(
     numberOfBlocks,
     [&](uint64_t b) {
       const uint64_t begin = 64 * (numberOfWords * b / numberOfBlocks);
       const uint64_t end = std::min(numberOfVoxels, 64 * (numberOfWords * (b + 1) / numberOfBlocks));
       double         residual[64];
+      double         mass = 0.0;
       for (uint64_t v = begin; v < end;)
       {
         const uint64_t i = v % padded[0];
@@ -143,11 +145,19 @@ DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume, Mult
         for (uint64_t x = 0; x < n; ++x)
         {
           words[(v + x) >> 6] |= static_cast<uint64_t>(residual[x] < 0.0) << ((v + x) & 63);
+          mass += static_cast<float>(std::abs(residual[x])); // |r| as the residual volume holds it
         }
         v += n;
       }
+      blockMass[b] = mass;
     },
     threader);
+  double mass = 0.0;
+  for (const double m : blockMass)
+  {
+    mass += m;
+  }
+  m_ResidualMass = mass * m_ResidualVolume->GetVoxelVolume();
 }
 
 void

@@ -123,7 +123,7 @@ MakeGeometryFromMatrix(const Options & options)
 } // namespace
 
 itk::DRRProjectionGeometry::Pointer
-MakeGeometry(const Options & options, const VolumeType * volume)
+MakeGeometry(const Options & options, const itk::ImageBase<3> * volume)
 {
   const bool matrix = !options.projectionMatrixFile.empty();
   const bool localizer = !options.geometryFrom.empty();
@@ -289,17 +289,19 @@ MakeSpectrum(const Options & options)
   return spectrum;
 }
 
+template <typename TVolume>
 ProjectionType::ConstPointer
 PolychromaticImage(const Options &                options,
                    const itk::DRRXRaySpectrum *   spectrum,
-                   BaseFilterType *               filter,
+                   BaseFilterType<TVolume> *      filter,
                    ProjectionType::ConstPointer & standardError)
 {
   if (!spectrum)
   {
     return filter->GetOutput();
   }
-  using PolychromaticType = itk::DRRPolychromaticImageFilter<BaseFilterType::ChannelImageType, ProjectionType>;
+  using PolychromaticType =
+    itk::DRRPolychromaticImageFilter<typename BaseFilterType<TVolume>::ChannelImageType, ProjectionType>;
   auto poly = PolychromaticType::New();
   poly->SetInput(filter->GetChannelOutput());
   poly->SetCovarianceInput(filter->GetChannelCovarianceOutput());
@@ -312,11 +314,23 @@ PolychromaticImage(const Options &                options,
   return poly->GetOutput();
 }
 
+template ProjectionType::ConstPointer
+PolychromaticImage(const Options &,
+                   const itk::DRRXRaySpectrum *,
+                   BaseFilterType<HUVolumeType> *,
+                   ProjectionType::ConstPointer &);
+template ProjectionType::ConstPointer
+PolychromaticImage(const Options &,
+                   const itk::DRRXRaySpectrum *,
+                   BaseFilterType<VolumeType> *,
+                   ProjectionType::ConstPointer &);
+
 namespace
 {
 
+template <typename TVolume>
 std::string
-Describe(const VolumeType * volume)
+Describe(const TVolume * volume)
 {
   const auto         region = volume->GetLargestPossibleRegion();
   std::ostringstream s;
@@ -328,14 +342,14 @@ Describe(const VolumeType * volume)
     s << (r ? "; " : "") << volume->GetDirection()[r][0] << " " << volume->GetDirection()[r][1] << " "
       << volume->GetDirection()[r][2];
   }
-  const float * values = volume->GetBufferPointer();
-  const auto    range = std::minmax_element(values, values + region.GetNumberOfPixels());
+  const auto * values = volume->GetBufferPointer();
+  const auto   range = std::minmax_element(values, values + region.GetNumberOfPixels());
   if (range.first == values + region.GetNumberOfPixels())
   {
     s << "], no values (empty)"; // nothing to dereference: the checks that refuse an empty volume come later
     return s.str();
   }
-  s << "], values " << *range.first << " .. " << *range.second;
+  s << "], values " << +*range.first << " .. " << +*range.second << " (" << sizeof(*values) << " bytes per voxel)";
   return s.str();
 }
 
@@ -357,13 +371,14 @@ DescribeGeometry(const itk::DRRProjectionGeometry * g)
 
 } // namespace
 
-Renderer
-MakeRenderer(const Options & options, const VolumeType * volume)
+template <typename TVolume>
+Renderer<TVolume>
+MakeRenderer(const Options & options, const TVolume * volume)
 {
-  Renderer renderer;
+  Renderer<TVolume> renderer;
   if (!options.exact)
   {
-    auto pointBased = PointFilterType::New();
+    auto pointBased = PointFilterType<TVolume>::New();
     pointBased->SetNumberOfSamples(options.samples);
     pointBased->SetSeed(options.seed);
     pointBased->SetNumberOfStrata(options.strata);
@@ -379,14 +394,14 @@ MakeRenderer(const Options & options, const VolumeType * volume)
   }
   else
   {
-    auto exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
+    auto exact = itk::ExactDRRImageFilter<TVolume, ProjectionType>::New();
     exact->SetReconstructionKernel(*options.exact);
     exact->SetRaysPerPixelSide(options.raysPerSide);
     renderer.Filter = exact.GetPointer();
   }
   renderer.Filter->SetInput(volume);
   renderer.Filter->SetTransferFunction(MakeTransferFunction(options));
-  ApplyLabelOptions(options, renderer.Filter);
+  ApplyLabelOptions(options, renderer.Filter.GetPointer());
   renderer.Filter->SetMaterialChannels(IsPolychromatic(options));
   if (options.threads > 0)
   {
@@ -394,6 +409,11 @@ MakeRenderer(const Options & options, const VolumeType * volume)
   }
   return renderer;
 }
+
+template Renderer<HUVolumeType>
+MakeRenderer(const Options &, const HUVolumeType *);
+template Renderer<VolumeType>
+MakeRenderer(const Options &, const VolumeType *);
 
 ProjectionType::ConstPointer
 AddQuantumNoise(const Options & options, const ProjectionType * image, uint64_t seed)
@@ -442,6 +462,40 @@ CheckSingleViewOptions(const Options & options)
                      ": for a batch of views (--angles, --views, --rtk-geometry or --manifest)");
   }
 }
+
+/** pbdrr -v's account of what the render holds per voxel of the CT, beyond the CT itself, and what its preprocessing
+ * cost per voxel: the scale the paper promises is a cost set by the points, not by the CT. */
+template <typename TVolume>
+std::string
+DescribeMemory(const TVolume *            volume,
+               BaseFilterType<TVolume> *  filter,
+               PointFilterType<TVolume> * pointBased,
+               double                     preprocessSeconds)
+{
+  const double       voxels = static_cast<double>(volume->GetLargestPossibleRegion().GetNumberOfPixels());
+  std::ostringstream s;
+  s << std::setprecision(3) << "bytes per voxel: the CT " << sizeof(typename TVolume::PixelType)
+    << ", attenuation model " << filter->GetAttenuationVolume()->GetBytesPerVoxel();
+  if (pointBased)
+  {
+    s << ", sampler tables " << static_cast<double>(pointBased->GetSampler()->GetTableSizeInBytes()) / voxels;
+    if (const itk::DRRControlVariate * split = pointBased->GetControlVariate())
+    {
+      s << ", control variate " << static_cast<double>(split->GetTableSizeInBytes()) / voxels;
+    }
+  }
+  s << "; preprocess " << 1e9 * preprocessSeconds / voxels << " ns per voxel";
+  return s.str();
+}
+
+/** Renders and writes the view of the options from a loaded volume (of its own pixel type: int16 HU or float). */
+template <typename TVolume>
+void
+RenderView(const Options &                               options,
+           const LoadedVolume &                          loaded,
+           const TVolume *                               volume,
+           const itk::DRRXRaySpectrum *                  spectrum,
+           std::vector<std::pair<std::string, double>> & stages);
 } // namespace
 
 void
@@ -454,7 +508,6 @@ Run(const Options & options)
   }
   CheckSingleViewOptions(options);
   const bool                                  chatty = !options.quiet;
-  std::vector<std::string>                    notes;
   std::vector<std::pair<std::string, double>> stages;
   OutputMode(options); // refuse unknown extensions, and modes they cannot hold, before any work
   if (chatty)
@@ -513,23 +566,45 @@ Run(const Options & options)
       std::cerr << "pbdrr: " << note << std::endl;
     }
   }
-  const auto geometry = MakeGeometry(options, loaded.Image);
+  if (loaded.HU)
+  {
+    RenderView(options, loaded, loaded.HU.GetPointer(), spectrum, stages);
+  }
+  else
+  {
+    RenderView(options, loaded, loaded.Image.GetPointer(), spectrum, stages);
+  }
+}
+
+namespace
+{
+template <typename TVolume>
+void
+RenderView(const Options &                               options,
+           const LoadedVolume &                          loaded,
+           const TVolume *                               volume,
+           const itk::DRRXRaySpectrum *                  spectrum,
+           std::vector<std::pair<std::string, double>> & stages)
+{
+  const bool               chatty = !options.quiet;
+  std::vector<std::string> notes;
+  const auto               geometry = MakeGeometry(options, volume);
   if (!options.projectionMatrixFile.empty())
   {
-    CheckDetectorBeyondVolume(geometry, loaded.Image, 0.0, "--projection-matrix (--spacing DU)");
+    CheckDetectorBeyondVolume(geometry, volume, 0.0, "--projection-matrix (--spacing DU)");
   }
   if (options.verbose)
   {
-    std::cerr << "pbdrr: input: " << loaded.Description << "\npbdrr: volume: " << Describe(loaded.Image)
+    std::cerr << "pbdrr: input: " << loaded.Description << "\npbdrr: volume: " << Describe(volume)
               << "\npbdrr: geometry: " << DescribeGeometry(geometry) << std::endl;
   }
 
-  const Renderer    renderer = MakeRenderer(options, loaded.Image);
-  BaseFilterType *  filter = renderer.Filter;
-  PointFilterType * pointBased = renderer.Points;
+  const Renderer<TVolume>    renderer = MakeRenderer(options, volume);
+  BaseFilterType<TVolume> *  filter = renderer.Filter;
+  PointFilterType<TVolume> * pointBased = renderer.Points;
   filter->SetGeometry(geometry);
 
-  start = Clock::now();
+  auto start = Clock::now();
   if (pointBased)
   {
     pointBased->PrepareSampling();
@@ -597,6 +672,7 @@ Run(const Options & options)
     {
       std::cerr << "pbdrr: " << note << std::endl;
     }
+    std::cerr << "pbdrr: " << DescribeMemory(volume, filter, pointBased, stages[1].second) << std::endl;
     std::cerr << "pbdrr: time:";
     for (const auto & stage : stages)
     {
@@ -611,4 +687,5 @@ Run(const Options & options)
               << geometryPath << std::endl;
   }
 }
+} // namespace
 } // namespace pbdrr

@@ -30,27 +30,33 @@
 
 namespace pbdrr
 {
-/** What every renderer is: the point-based filter or an exact projector. */
-using BaseFilterType = itk::DRRImageFilterBase<VolumeType, ProjectionType>;
+/** What every renderer is: the point-based filter or an exact projector, of a CT of type TVolume (HUVolumeType or
+ * VolumeType: the loaded volume's own). */
+template <typename TVolume>
+using BaseFilterType = itk::DRRImageFilterBase<TVolume, ProjectionType>;
 /** The point-based renderer. */
-using PointFilterType = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>;
+template <typename TVolume>
+using PointFilterType = itk::PointBasedDRRImageFilter<TVolume, ProjectionType>;
 
 /** The renderer the options ask for, its input and transfer function set, its view not. */
+template <typename TVolume>
 struct Renderer
 {
-  BaseFilterType::Pointer  Filter; ///< the filter that renders (point-based or exact)
-  PointFilterType::Pointer Points; ///< the same filter if it is point-based, else null (--exact)
+  typename BaseFilterType<TVolume>::Pointer  Filter; ///< the filter that renders (point-based or exact)
+  typename PointFilterType<TVolume>::Pointer Points; ///< the same filter if it is point-based, else null (--exact)
 };
 
-/** Builds the renderer of the options (sampler, kernel, splat, control variate, or --exact) for volume. */
-Renderer
-MakeRenderer(const Options & options, const VolumeType * volume);
+/** Builds the renderer of the options (sampler, kernel, splat, control variate, or --exact) for volume. Instantiated
+ * for HUVolumeType and VolumeType. */
+template <typename TVolume>
+Renderer<TVolume>
+MakeRenderer(const Options & options, const TVolume * volume);
 
 /** The view the options describe: the geometry file, then the flags over it, --projection-matrix or --geometry-from;
  * the default isocenter is the volume's centre (the room origin for a null volume, to check the flags before a load).
  * Throws UsageError or itk::ExceptionObject for a view that cannot be. */
 itk::DRRProjectionGeometry::Pointer
-MakeGeometry(const Options & options, const VolumeType * volume);
+MakeGeometry(const Options & options, const itk::ImageBase<3> * volume);
 
 /** HU (or mu) to attenuation, as --input-units, --energy, --mu-water and --air-threshold say. */
 itk::DRRTransferFunction::Pointer
@@ -66,10 +72,11 @@ MakeSpectrum(const Options & options);
 
 /** The filter's image, or with a spectrum (MakeSpectrum()) its polychromatic line integral -ln T from the material
  * channels (DRRPolychromaticImageFilter; standardError then becomes its standard error). */
+template <typename TVolume>
 ProjectionType::ConstPointer
 PolychromaticImage(const Options &                options,
                    const itk::DRRXRaySpectrum *   spectrum,
-                   BaseFilterType *               filter,
+                   BaseFilterType<TVolume> *      filter,
                    ProjectionType::ConstPointer & standardError);
 
 /** The image with quantum noise (--photons, DRRQuantumNoiseImageFilter seeded by seed), or image itself without. */

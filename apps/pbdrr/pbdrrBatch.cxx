@@ -338,7 +338,7 @@ CheckViews(const Options & options, const BatchPlan & plan)
 }
 
 itk::DRRProjectionGeometry::Pointer
-ViewGeometry(const Options & options, const ViewSpec & view, const VolumeType * volume)
+ViewGeometry(const Options & options, const ViewSpec & view, const itk::ImageBase<3> * volume)
 {
   return view.Whole ? view.Whole : CanonicalView(options, MakeGeometry(ApplyView(options, view), volume));
 }
@@ -346,11 +346,11 @@ ViewGeometry(const Options & options, const ViewSpec & view, const VolumeType * 
 /** Every view of the batch in RTK's XML at path (each shard writes the same file, whole): --write-rtk-geometry's file,
  * and the views of a stack beside it. flag names the option in messages. */
 void
-WriteRTKGeometry(const Options &     options,
-                 const BatchPlan &   plan,
-                 const VolumeType *  volume,
-                 const std::string & path,
-                 const std::string & flag)
+WriteRTKGeometry(const Options &           options,
+                 const BatchPlan &         plan,
+                 const itk::ImageBase<3> * volume,
+                 const std::string &       path,
+                 const std::string &       flag)
 {
   itk::DRRRTKGeometryFileIO::ConstGeometryListType geometries;
   for (const ViewSpec & view : plan.Views)
@@ -540,10 +540,11 @@ namespace
 {
 /** The renderer of a batch: the options' own, with the points kept for every view (unless --independent-views) and no
  * standard error (nobody reads it: the control variate's coarse image traces half the rays). */
-Renderer
-MakeBatchRenderer(const Options & options, const BatchPlan & plan, const VolumeType * volume)
+template <typename TVolume>
+Renderer<TVolume>
+MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume * volume)
 {
-  const Renderer renderer = MakeRenderer(options, volume);
+  const Renderer<TVolume> renderer = MakeRenderer(options, volume);
   if (!renderer.Points)
   {
     return renderer;
@@ -551,7 +552,7 @@ MakeBatchRenderer(const Options & options, const BatchPlan & plan, const VolumeT
   // One draw serves every view: view k's image is then a function of (seed, its view) alone.
   renderer.Points->SetReusePoints(!options.independentViews);
   renderer.Points->ComputeStandardErrorOff();
-  if (!options.independentViews && options.controlVariate == PointFilterType::AutomaticControlVariateFactor)
+  if (!options.independentViews && options.controlVariate == PointFilterType<TVolume>::AutomaticControlVariateFactor)
   {
     // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
     // renders, so that the split, and so every view's image, is the same in every run and shard.
@@ -591,8 +592,9 @@ AddToStack(VolumeType::Pointer &              stack,
 }
 
 /** pbdrr -v's account of a batch: the load, the first view (with the points' draw), the others, the split. */
+template <typename TVolume>
 void
-PrintBatchTimes(double load, double first, double rest, size_t views, const Renderer & renderer)
+PrintBatchTimes(double load, double first, double rest, size_t views, const Renderer<TVolume> & renderer)
 {
   const size_t others = views - 1;
   std::cerr << "pbdrr: time: load " << load << " s; the first view (with the points' draw) " << first << " s; "
@@ -608,20 +610,16 @@ PrintBatchTimes(double load, double first, double rest, size_t views, const Rend
     }
   }
 }
-} // namespace
-
+/** Renders the selected views of the plan from a loaded volume (of its own pixel type: int16 HU or float). */
+template <typename TVolume>
 void
-RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
+RenderViews(const Options &   options,
+            const BatchPlan & plan,
+            BatchProgress &   progress,
+            double            loadSeconds,
+            const TVolume *   volume)
 {
-  const double       loadStart = Now();
-  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, {});
-  const double       loadSeconds = Now() - loadStart;
-  for (size_t n = 0; !options.quiet && n < loaded.Notes.size(); ++n)
-  {
-    std::cerr << "pbdrr: " << loaded.Notes[n] << std::endl;
-  }
-  const VolumeType * volume = loaded.Image;
-  const Renderer     renderer = MakeBatchRenderer(options, plan, volume);
+  const Renderer<TVolume> renderer = MakeBatchRenderer(options, plan, volume);
   if (!options.writeRtkGeometry.empty())
   {
     WriteRTKGeometry(options, plan, volume, options.writeRtkGeometry, "--write-rtk-geometry");
@@ -670,6 +668,27 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
   {
     PrintBatchTimes(
       loadSeconds, firstViewSeconds, Now() - renderStart - firstViewSeconds, plan.Selected.size(), renderer);
+  }
+}
+} // namespace
+
+void
+RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
+{
+  const double       loadStart = Now();
+  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, {});
+  const double       loadSeconds = Now() - loadStart;
+  for (size_t n = 0; !options.quiet && n < loaded.Notes.size(); ++n)
+  {
+    std::cerr << "pbdrr: " << loaded.Notes[n] << std::endl;
+  }
+  if (loaded.HU)
+  {
+    RenderViews(options, plan, progress, loadSeconds, loaded.HU.GetPointer());
+  }
+  else
+  {
+    RenderViews(options, plan, progress, loadSeconds, loaded.Image.GetPointer());
   }
 }
 

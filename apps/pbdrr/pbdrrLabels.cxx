@@ -28,7 +28,7 @@
 
 namespace pbdrr
 {
-BaseFilterType::LabelImageType::Pointer
+BaseFilterType<VolumeType>::LabelImageType::Pointer
 ReadLabelImage(const std::string & path)
 {
   const itk::ImageIOBase::Pointer io =
@@ -58,7 +58,7 @@ ReadLabelImage(const std::string & path)
   }
   using WideImageType = itk::Image<int64_t, 3>;
   const auto wide = itk::ReadImage<WideImageType>(path);
-  auto       labels = BaseFilterType::LabelImageType::New();
+  auto       labels = BaseFilterType<VolumeType>::LabelImageType::New();
   labels->CopyInformation(wide);
   labels->SetRegions(wide->GetLargestPossibleRegion());
   labels->Allocate();
@@ -71,7 +71,7 @@ ReadLabelImage(const std::string & path)
       throw UsageError("--labels: voxel " + std::to_string(v) + " of " + path + " has label " + std::to_string(in[v]) +
                        "; labels are 0 to 65535");
     }
-    labels->GetBufferPointer()[v] = static_cast<BaseFilterType::LabelPixelType>(in[v]);
+    labels->GetBufferPointer()[v] = static_cast<BaseFilterType<VolumeType>::LabelPixelType>(in[v]);
   }
   return labels;
 }
@@ -108,8 +108,9 @@ CheckLabelOptions(const Options & options)
   }
 }
 
+template <typename TVolume>
 void
-ApplyLabelOptions(const Options & options, BaseFilterType * filter)
+ApplyLabelOptions(const Options & options, BaseFilterType<TVolume> * filter)
 {
   if (options.labelsFile.empty())
   {
@@ -121,22 +122,32 @@ ApplyLabelOptions(const Options & options, BaseFilterType * filter)
   filter->SetLabelChannels(!options.labelChannelsOutput.empty());
 }
 
+template <typename TVolume>
 void
-WriteLabelChannels(const Options & options, BaseFilterType * filter)
+WriteLabelChannels(const Options & options, BaseFilterType<TVolume> * filter)
 {
   if (options.labelChannelsOutput.empty())
   {
     return;
   }
-  BaseFilterType::ChannelImageType * channels = filter->GetChannelOutput();
+  auto * channels = filter->GetChannelOutput();
   itk::EncapsulateMetaData<std::string>(channels->GetMetaDataDictionary(),
                                         "PBDRR_ChannelLabels",
                                         itk::DRRLabelSelection::ToString(filter->GetChannelLabels()));
   WriteAtomically(options.labelChannelsOutput, [&](const std::string & temporary) {
-    auto writer = itk::ImageFileWriter<BaseFilterType::ChannelImageType>::New();
+    auto writer = itk::ImageFileWriter<typename BaseFilterType<TVolume>::ChannelImageType>::New();
     writer->SetInput(channels);
     writer->SetFileName(temporary);
     writer->Update();
   });
 }
+
+template void
+ApplyLabelOptions(const Options &, BaseFilterType<HUVolumeType> *);
+template void
+ApplyLabelOptions(const Options &, BaseFilterType<VolumeType> *);
+template void
+WriteLabelChannels(const Options &, BaseFilterType<HUVolumeType> *);
+template void
+WriteLabelChannels(const Options &, BaseFilterType<VolumeType> *);
 } // namespace pbdrr

@@ -27,13 +27,14 @@ namespace pbdrr
 /** The label image of --labels FILE: a 3D image of integers from 0 to 65535 (any integer pixel type). Throws
  * UsageError naming the file for a missing or unreadable file, a non-integer or multi-component pixel type, another
  * dimension, or a label out of range. */
-BaseFilterType::LabelImageType::Pointer
+BaseFilterType<VolumeType>::LabelImageType::Pointer
 ReadLabelImage(const std::string & path);
 
 /** Gives the filter the label options (--labels, --keep-labels, --drop-labels, --label-channels); checks, before any
- * load, that they go together. Nothing without --labels. */
+ * load, that they go together. Nothing without --labels. Instantiated for HUVolumeType and VolumeType. */
+template <typename TVolume>
 void
-ApplyLabelOptions(const Options & options, BaseFilterType * filter);
+ApplyLabelOptions(const Options & options, BaseFilterType<TVolume> * filter);
 
 /** Refuses label options that cannot hold (before anything is loaded or written). */
 void
@@ -41,8 +42,9 @@ CheckLabelOptions(const Options & options);
 
 /** Writes the channel images of the last render to options.labelChannelsOutput (a multi-component float image, one
  * component per label; the labels in the header key PBDRR_ChannelLabels), through a temporary name. */
+template <typename TVolume>
 void
-WriteLabelChannels(const Options & options, BaseFilterType * filter);
+WriteLabelChannels(const Options & options, BaseFilterType<TVolume> * filter);
 } // namespace pbdrr
 
 #endif

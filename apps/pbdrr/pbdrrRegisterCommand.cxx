@@ -327,7 +327,8 @@ RunRegister(const RegisterOptions & options)
     }
     std::cerr << "pbdrr: register: CT " << loaded.Description << std::endl;
   }
-  const RegistrationResult result = RegisterToXRays(loaded.Image, xrays, options.settings);
+  const RegistrationResult result = loaded.HU ? RegisterToXRays(loaded.HU.GetPointer(), xrays, options.settings)
+                                              : RegisterToXRays(loaded.Image.GetPointer(), xrays, options.settings);
   std::cout << std::fixed << std::setprecision(3) << "pose: " << result.Pose[0] << " " << result.Pose[1] << " "
             << result.Pose[2] << " " << result.Pose[3] << " " << result.Pose[4] << " " << result.Pose[5] << "\n"
             << std::setprecision(4) << "similarity: " << result.Similarity << " (" << options.settings.Metric

@@ -113,7 +113,7 @@ BinnedImage(const ProjectionType * image, unsigned shrink)
 
 /** The pixels whose rays cross the CT's grid [-0.5, n - 0.5]^3 at the pose: the field DRR and X-ray both cover. */
 std::vector<uint8_t>
-CoveredField(const GeometryType * geometry, const VolumeType * volume, const EulerType * pose)
+CoveredField(const GeometryType * geometry, const itk::ImageBase<3> * volume, const EulerType * pose)
 {
   const auto           size = geometry->GetDetectorSize();
   const auto           extent = volume->GetLargestPossibleRegion().GetSize();
@@ -166,7 +166,9 @@ Similarity(bool gradient, const float * drr, const float * xray, const std::vect
 struct TimeIsUp
 {};
 
-/** 1 - mean NCC of the X-rays and the DRRs at a pose (Euler3D parameters), on one level of the schedule. */
+/** 1 - mean NCC of the X-rays and the DRRs at a pose (Euler3D parameters), on one level of the schedule, for a CT of
+ * type TVolume. */
+template <typename TVolume>
 class SimilarityCost : public itk::SingleValuedCostFunction
 {
 public:
@@ -179,15 +181,15 @@ public:
   /** One X-ray on this level: its binned view and pixels, and the filter that renders it. */
   struct Level
   {
-    GeometryType::Pointer                                              Geometry;
-    std::vector<float>                                                 XRay;
-    itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::Pointer Points;
-    itk::ExactDRRImageFilter<VolumeType, ProjectionType>::Pointer      Exact;
+    GeometryType::Pointer                                                    Geometry;
+    std::vector<float>                                                       XRay;
+    typename itk::PointBasedDRRImageFilter<TVolume, ProjectionType>::Pointer Points;
+    typename itk::ExactDRRImageFilter<TVolume, ProjectionType>::Pointer      Exact;
   };
 
   std::vector<Level>                    Levels;
   bool                                  Gradient{ false }; // gradient correlation, else NCC
-  const VolumeType *                    Volume{ nullptr };
+  const TVolume *                       Volume{ nullptr };
   EulerType::Pointer                    Pose;
   std::chrono::steady_clock::time_point Deadline{ std::chrono::steady_clock::time_point::max() };
   mutable unsigned                      Evaluations{ 0 };
@@ -283,7 +285,7 @@ ToPose(const EulerType::ParametersType & parameters)
 } // namespace
 
 itk::Euler3DTransform<double>::Pointer
-MakePoseTransform(const VolumeType * volume, const std::array<double, 6> & pose)
+MakePoseTransform(const itk::ImageBase<3> * volume, const std::array<double, 6> & pose)
 {
   auto transform = EulerType::New();
   transform->SetCenter(GeometryType::ComputeImageCenter(volume));
@@ -460,8 +462,9 @@ CheckDetectorBeyondVolume(const GeometryType *      geometry,
   }
 }
 
+template <typename TVolume>
 RegistrationResult
-RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, const RegistrationSettings & settings)
+RegisterToXRays(const TVolume * volume, const std::vector<XRay> & xrays, const RegistrationSettings & settings)
 {
   if (xrays.empty())
   {
@@ -481,18 +484,19 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
   auto       pose = MakePoseTransform(volume, settings.StartPose);
 
   // One filter per X-ray for the whole schedule: kept points are drawn once and re-projected at every pose and level.
-  std::vector<SimilarityCost::Level> filters(xrays.size());
+  using CostType = SimilarityCost<TVolume>;
+  std::vector<typename CostType::Level> filters(xrays.size());
   for (size_t x = 0; x < xrays.size(); ++x)
   {
     if (settings.Exact)
     {
-      filters[x].Exact = itk::ExactDRRImageFilter<VolumeType, ProjectionType>::New();
+      filters[x].Exact = itk::ExactDRRImageFilter<TVolume, ProjectionType>::New();
       filters[x].Exact->SetInput(volume);
       filters[x].Exact->SetRaysPerPixelSide(settings.ExactRaysPerSide);
     }
     else
     {
-      auto points = itk::PointBasedDRRImageFilter<VolumeType, ProjectionType>::New();
+      auto points = itk::PointBasedDRRImageFilter<TVolume, ProjectionType>::New();
       points->SetInput(volume);
       points->SetNumberOfSamples(settings.Samples);
       points->SetSeed(settings.Seed + x);
@@ -504,7 +508,7 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
 
   RegistrationResult result;
   const auto         levelCost = [&](unsigned shrink) {
-    auto cost = SimilarityCost::New();
+    auto cost = CostType::New();
     cost->Gradient = settings.Metric == "gc";
     cost->Volume = volume;
     cost->Pose = pose;
@@ -515,7 +519,7 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
     }
     for (size_t x = 0; x < xrays.size(); ++x)
     {
-      SimilarityCost::Level level = filters[x];
+      typename CostType::Level level = filters[x];
       level.Geometry = BinnedGeometry(xrays[x].Geometry, shrink);
       level.XRay = BinnedImage(xrays[x].Image, shrink);
       cost->Levels.push_back(level);
@@ -580,9 +584,9 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
   double similarity = 0.0;
   for (size_t x = 0; x < xrays.size(); ++x)
   {
-    SimilarityCost::Level level = filters[x];
+    typename CostType::Level level = filters[x];
     level.Geometry = CopyGeometry(xrays[x].Geometry);
-    const ProjectionType * drr = SimilarityCost::Render(level, pose);
+    const ProjectionType * drr = CostType::Render(level, pose);
     auto                   kept = ProjectionType::New();
     kept->CopyInformation(drr);
     kept->SetRegions(drr->GetLargestPossibleRegion());
@@ -602,4 +606,9 @@ RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, cons
   result.Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   return result;
 }
+
+template RegistrationResult
+RegisterToXRays(const HUVolumeType *, const std::vector<XRay> &, const RegistrationSettings &);
+template RegistrationResult
+RegisterToXRays(const VolumeType *, const std::vector<XRay> &, const RegistrationSettings &);
 } // namespace pbdrr

@@ -100,11 +100,12 @@ CheckDetectorBeyondVolume(const itk::DRRProjectionGeometry * geometry,
 /** The rigid pose tx ty tz (mm) rx ry rz (degrees) of the CT in the room, as RegistrationSettings defines it: a
  * transform from the CT's frame to the room, about the centre of the CT's grid. */
 itk::Euler3DTransform<double>::Pointer
-MakePoseTransform(const VolumeType * volume, const std::array<double, 6> & pose);
+MakePoseTransform(const itk::ImageBase<3> * volume, const std::array<double, 6> & pose);
 
 /** Registers the CT volume (HU) to the X-rays. */
+template <typename TVolume>
 RegistrationResult
-RegisterToXRays(const VolumeType * volume, const std::vector<XRay> & xrays, const RegistrationSettings & settings);
+RegisterToXRays(const TVolume * volume, const std::vector<XRay> & xrays, const RegistrationSettings & settings);
 
 /** The normalized cross-correlation of a and b over the pixels where mask is 1 (0 if either is constant there). */
 double

@@ -148,7 +148,7 @@ TEST(PbdrrRegistration, FindsThePoseTheXRaysWereRenderedAt)
   pbdrr::RegistrationSettings    settings;
   settings.Shrink = { 2, 1 };
   settings.Exact = true;
-  const auto exact = pbdrr::RegisterToXRays(volume, xrays, settings);
+  const auto exact = pbdrr::RegisterToXRays(volume.GetPointer(), xrays, settings);
   ExpectPose(exact.Pose, truth, 0.05, 0.05);
   EXPECT_GT(exact.Similarity, 0.999);
   EXPECT_LT(exact.StartSimilarity, exact.Similarity);
@@ -157,7 +157,7 @@ TEST(PbdrrRegistration, FindsThePoseTheXRaysWereRenderedAt)
 
   settings.Exact = false;
   settings.Samples = 2000000;
-  const auto points = pbdrr::RegisterToXRays(volume, xrays, settings);
+  const auto points = pbdrr::RegisterToXRays(volume.GetPointer(), xrays, settings);
   ExpectPose(points.Pose, truth, 0.5, 0.5);
   EXPECT_GT(points.Similarity, 0.99);
 }
@@ -171,7 +171,7 @@ TEST(PbdrrRegistration, MaxSecondsStopsWithTheBestPoseSoFar)
   pbdrr::RegistrationSettings    settings;
   settings.Exact = true;
   settings.MaxSeconds = 1e-3;
-  const auto result = pbdrr::RegisterToXRays(volume, xrays, settings);
+  const auto result = pbdrr::RegisterToXRays(volume.GetPointer(), xrays, settings);
   EXPECT_TRUE(result.StoppedByTime);
   for (const double component : result.Pose)
   {

@@ -60,6 +60,12 @@ RenderExact(const itk::ImageBase<3> * volume, itk::DRRProjectionGeometry * geome
     filter->SetInput(static_cast<const MuVolumeType *>(volume));
     collect(filter);
   }
+  else if (const auto * hu = dynamic_cast<const pbdrr::HUVolumeType *>(volume))
+  {
+    auto filter = itk::ExactDRRImageFilter<pbdrr::HUVolumeType, ProjectionType>::New();
+    filter->SetInput(hu);
+    collect(filter);
+  }
   else
   {
     auto filter = itk::ExactDRRImageFilter<pbdrr::VolumeType, ProjectionType>::New();
@@ -185,9 +191,9 @@ TEST(PbdrrLocalizerView, RealSurviewMatchesTheDRRsOfBothTiltedSeries)
   for (const char * series : { "S2010", "S3010" })
   {
     const auto   volume = pbdrr::LoadVolume((root / series).string(), "");
-    const auto   drr = RenderExact(volume.Image, view.Geometry, false);
-    const auto   side = RenderExact(volume.Image, wrongSide, false);
-    const auto   off = RenderExact(volume.Image, shifted, false);
+    const auto   drr = RenderExact(volume.Grid(), view.Geometry, false);
+    const auto   side = RenderExact(volume.Grid(), wrongSide, false);
+    const auto   off = RenderExact(volume.Grid(), shifted, false);
     const double header = MaskedCorrelation(real, drr, drr);
     const double otherSide = MaskedCorrelation(real, side, side);
     const double offCentre = MaskedCorrelation(real, off, off);

@@ -21,6 +21,7 @@
 #include "pbdrrVolumeLoader.h"
 
 #include "gdcmScanner.h"
+#include "itkImageFileReader.h"
 #include "gtest/gtest.h"
 
 #include <algorithm>
@@ -65,7 +66,7 @@ TEST(PbdrrDicomTruncation, EveryCutOfASliceIsRefusedAndNoneReachesGDCM)
   ASSERT_TRUE(fs::exists(victim)) << "run the pbdrr.MakeTestVolumes fixture first";
   EXPECT_EQ(pbdrr::FindDicomTruncation(victim.string()), "") << "the whole slice is not damaged";
   const auto whole = pbdrr::LoadVolume(series.string(), "");
-  ASSERT_EQ(whole.Image->GetLargestPossibleRegion().GetSize()[2], 8u);
+  ASSERT_EQ(whole.Grid()->GetLargestPossibleRegion().GetSize()[2], 8u);
 
   const fs::path copy = fs::temp_directory_path() / "pbdrr_truncation_sweep";
   const auto     size = fs::file_size(victim);
@@ -126,9 +127,22 @@ TEST(PbdrrVolumeLoader, Jpeg2000SlicesDecodeToTheRangeTheirHeadersDeclare)
   {
     GTEST_SKIP() << "SKIPPED: " << j2k << " is absent (real data from ../shared/data)";
   }
-  const auto loaded = pbdrr::LoadVolume(j2k.string(), "");
-  const auto image = loaded.Image;
-  const auto size = image->GetLargestPossibleRegion().GetSize();
+  const auto                loaded = pbdrr::LoadVolume(j2k.string(), "");
+  const itk::ImageBase<3> * image = loaded.Grid();
+  const auto                size = image->GetLargestPossibleRegion().GetSize();
+  // The slice's values, whichever type the loader chose (int16 when the headers say they fit).
+  const auto sliceRange = [&](size_t k) {
+    const size_t pixels = size[0] * size[1];
+    if (loaded.HU)
+    {
+      const int16_t * slice = loaded.HU->GetBufferPointer() + k * pixels;
+      const auto      range = std::minmax_element(slice, slice + pixels);
+      return std::make_pair(static_cast<double>(*range.first), static_cast<double>(*range.second));
+    }
+    const float * slice = loaded.Image->GetBufferPointer() + k * pixels;
+    const auto    range = std::minmax_element(slice, slice + pixels);
+    return std::make_pair(static_cast<double>(*range.first), static_cast<double>(*range.second));
+  };
   ASSERT_EQ(size[0], 512u);
   ASSERT_EQ(size[1], 512u);
   ASSERT_EQ(size[2], 20u);
@@ -169,11 +183,41 @@ TEST(PbdrrVolumeLoader, Jpeg2000SlicesDecodeToTheRangeTheirHeadersDeclare)
     ASSERT_NEAR(index[2], static_cast<double>(k), 1e-3) << file << ": not on a slice of the volume";
     ASSERT_NEAR(index[0], 0.0, 1e-3) << file;
     ASSERT_NEAR(index[1], 0.0, 1e-3) << file;
-    const float * slice = image->GetBufferPointer() + static_cast<size_t>(k) * size[0] * size[1];
-    const auto    range = std::minmax_element(slice, slice + size[0] * size[1]);
-    EXPECT_EQ(*range.first, a * value(file, smallest) + b) << file << " (slice " << k << ")";
-    EXPECT_EQ(*range.second, a * value(file, largest) + b) << file << " (slice " << k << ")";
+    const auto range = sliceRange(static_cast<size_t>(k));
+    EXPECT_EQ(range.first, a * value(file, smallest) + b) << file << " (slice " << k << ")";
+    EXPECT_EQ(range.second, a * value(file, largest) + b) << file << " (slice " << k << ")";
     ++checked;
   }
   EXPECT_EQ(checked, 20u);
+}
+
+// A CT is held as its file stores it: int16 (2 bytes per voxel) where the file says every value fits an int16 (a DICOM
+// series by its stored bits, slope and intercept; a volume file by its pixel type), float otherwise; the values are
+// the same either way.
+TEST(PbdrrVolumeLoader, AnInt16CtIsHeldAsInt16AndOtherVolumesAsFloat)
+{
+  const fs::path series = TestData() / "dicom_good";
+  const fs::path phantom = TestData() / "phantom.mha";         // short HU
+  const fs::path extremes = TestData() / "float_extremes.mha"; // float HU
+  ASSERT_TRUE(fs::exists(series) && fs::exists(phantom) && fs::exists(extremes))
+    << "run the pbdrr.MakeTestVolumes fixture first";
+  const auto dicom = pbdrr::LoadVolume(series.string(), "");
+  ASSERT_TRUE(dicom.HU) << "the test series is 16-bit with slope 1";
+  EXPECT_FALSE(dicom.Image);
+  const auto file = pbdrr::LoadVolume(phantom.string(), "");
+  ASSERT_TRUE(file.HU);
+  EXPECT_FALSE(file.Image);
+  const auto   asFloat = itk::ReadImage<pbdrr::VolumeType>(phantom.string());
+  const size_t voxels = asFloat->GetBufferedRegion().GetNumberOfPixels();
+  ASSERT_EQ(file.HU->GetBufferedRegion().GetNumberOfPixels(), voxels);
+  size_t different = 0;
+  for (size_t v = 0; v < voxels; ++v)
+  {
+    different += static_cast<float>(file.HU->GetBufferPointer()[v]) != asFloat->GetBufferPointer()[v] ? 1 : 0;
+  }
+  EXPECT_EQ(different, 0u);
+  const auto floating = pbdrr::LoadVolume(extremes.string(), "");
+  EXPECT_FALSE(floating.HU);
+  ASSERT_TRUE(floating.Image);
+  EXPECT_EQ(floating.Grid(), floating.Image.GetPointer());
 }

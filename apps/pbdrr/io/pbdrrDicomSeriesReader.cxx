@@ -27,6 +27,7 @@
 #include "itkImageSeriesReader.h"
 #include "gdcmScanner.h"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace pbdrr
@@ -69,28 +70,62 @@ ScanSeries(const std::vector<std::string> & files)
   }
   return slices;
 }
-} // namespace
-
-VolumeType::Pointer
-ReadDicomSeries(const std::vector<std::string> & files,
-                const std::vector<std::string> & notDicom,
-                const std::string &              directory,
-                const LoadProgress &             progress)
+/** True if every file's pixel values, as GDCM gives them (stored value x slope + intercept), are integers an int16
+ * holds, read from the headers alone: Bits Stored, Pixel Representation, Rescale Slope and Intercept. */
+bool
+SeriesHoldsInt16(const std::vector<std::string> & files)
 {
-  GdcmWarningCapture warnings;
-  SliceStack         stack;
-  try
+  const gdcm::Tag bitsStoredTag(0x0028, 0x0101);
+  const gdcm::Tag representationTag(0x0028, 0x0103);
+  const gdcm::Tag interceptTag(0x0028, 0x1052);
+  const gdcm::Tag slopeTag(0x0028, 0x1053);
+  const gdcm::Tag samplesTag(0x0028, 0x0002);
+  gdcm::Scanner   scanner;
+  for (const gdcm::Tag & tag : { bitsStoredTag, representationTag, interceptTag, slopeTag, samplesTag })
   {
-    stack = CheckSliceStack(ScanSeries(files), "the series", true);
+    scanner.AddTag(tag);
   }
-  catch (const std::runtime_error & e)
+  if (!scanner.Scan(files))
   {
-    // A slice cut to a few bytes no longer looks like DICOM: name such files beside the gap they leave.
-    Fail(e.what() + (notDicom.empty() ? std::string()
-                                      : " (" + directory + " also holds " + std::to_string(notDicom.size()) +
-                                          " file(s) that are not DICOM: " + JoinNames(notDicom) + ")"));
+    return false;
   }
-  auto reader = itk::ImageSeriesReader<VolumeType>::New();
+  const auto number = [&](const std::string & file, const gdcm::Tag & tag, double fallback, bool & present) {
+    std::vector<double> value;
+    present = ParseNumbers(scanner.GetValue(file.c_str(), tag), 1, value);
+    return present ? value[0] : fallback;
+  };
+  for (const std::string & file : files)
+  {
+    bool         present = false;
+    const double bitsStored = number(file, bitsStoredTag, 0.0, present);
+    if (!present || bitsStored < 1.0 || bitsStored > 16.0)
+    {
+      return false;
+    }
+    const double representation = number(file, representationTag, 0.0, present);
+    const double samples = number(file, samplesTag, 1.0, present);
+    const double slope = number(file, slopeTag, 1.0, present);
+    const double intercept = number(file, interceptTag, 0.0, present);
+    if (samples != 1.0 || slope != 1.0 || intercept != std::floor(intercept))
+    {
+      return false;
+    }
+    const double levels = std::ldexp(1.0, static_cast<int>(bitsStored));
+    const double lowest = (representation == 1.0 ? -levels / 2.0 : 0.0) + intercept;
+    const double highest = (representation == 1.0 ? levels / 2.0 - 1.0 : levels - 1.0) + intercept;
+    if (lowest < -32768.0 || highest > 32767.0)
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+template <typename TVolume>
+typename TVolume::Pointer
+ReadSlices(const std::vector<std::string> & files, const SliceStack & stack, const LoadProgress & progress)
+{
+  auto reader = itk::ImageSeriesReader<TVolume>::New();
   reader->SetImageIO(itk::GDCMImageIO::New());
   reader->SetFileNames(files);
   const Vector3 & shear = stack.ShearPerMillimetre;
@@ -119,12 +154,44 @@ ReadDicomSeries(const std::vector<std::string> & files,
     reader->AddObserver(itk::ProgressEvent(), observer);
   }
   reader->Update();
-  VolumeType::Pointer image = reader->GetOutput();
+  typename TVolume::Pointer image = reader->GetOutput();
   image->DisconnectPipeline();
   auto imageSpacing = image->GetSpacing();
   imageSpacing[2] = stack.StepLength(); // mm from slice to slice along the third axis: the slices' own, not GDCM's
   image->SetSpacing(imageSpacing);
-  RefuseDamagedPixelData(warnings, files);
   return image;
+}
+} // namespace
+
+void
+ReadDicomSeries(const std::vector<std::string> & files,
+                const std::vector<std::string> & notDicom,
+                const std::string &              directory,
+                LoadedVolume &                   loaded,
+                const LoadProgress &             progress)
+{
+  GdcmWarningCapture warnings;
+  SliceStack         stack;
+  try
+  {
+    stack = CheckSliceStack(ScanSeries(files), "the series", true);
+  }
+  catch (const std::runtime_error & e)
+  {
+    // A slice cut to a few bytes no longer looks like DICOM: name such files beside the gap they leave.
+    Fail(e.what() + (notDicom.empty() ? std::string()
+                                      : " (" + directory + " also holds " + std::to_string(notDicom.size()) +
+                                          " file(s) that are not DICOM: " + JoinNames(notDicom) + ")"));
+  }
+  // CT as stored (2 bytes per voxel) when every slice's values fit an int16, as they do on nearly every scanner.
+  if (SeriesHoldsInt16(files))
+  {
+    loaded.HU = ReadSlices<HUVolumeType>(files, stack, progress);
+  }
+  else
+  {
+    loaded.Image = ReadSlices<VolumeType>(files, stack, progress);
+  }
+  RefuseDamagedPixelData(warnings, files);
 }
 } // namespace pbdrr

@@ -25,8 +25,11 @@
 
 namespace pbdrr
 {
-VolumeType::Pointer
-ReadVolumeFile(const std::string & path, const itk::ImageIOBase::Pointer & io)
+namespace
+{
+template <typename TVolume>
+typename TVolume::Pointer
+ReadVolumeFileAs(const std::string & path, const itk::ImageIOBase::Pointer & io)
 {
   if (io->GetNumberOfDimensions() != 3)
   {
@@ -38,7 +41,7 @@ ReadVolumeFile(const std::string & path, const itk::ImageIOBase::Pointer & io)
     Fail(path + " has " + std::to_string(io->GetNumberOfComponents()) +
          " components per voxel; pbdrr needs scalar voxels (HU or mu)");
   }
-  auto reader = itk::ImageFileReader<VolumeType>::New();
+  auto reader = itk::ImageFileReader<TVolume>::New();
   reader->SetFileName(path);
   reader->SetImageIO(io);
   // Some readers (MetaImage) report a short read on std::cerr and carry on: listen, and refuse such a volume.
@@ -61,8 +64,28 @@ ReadVolumeFile(const std::string & path, const itk::ImageIOBase::Pointer & io)
          ")");
   }
   std::cerr << messages;
-  VolumeType::Pointer image = reader->GetOutput();
+  typename TVolume::Pointer image = reader->GetOutput();
   image->DisconnectPipeline(); // the volume is data from now on: no reader re-executes behind it
   return image;
+}
+} // namespace
+
+VolumeType::Pointer
+ReadVolumeFile(const std::string & path, const itk::ImageIOBase::Pointer & io)
+{
+  return ReadVolumeFileAs<VolumeType>(path, io);
+}
+
+void
+ReadVolumeFileInto(const std::string & path, const itk::ImageIOBase::Pointer & io, LoadedVolume & loaded)
+{
+  using ComponentEnum = itk::IOComponentEnum;
+  const ComponentEnum component = io->GetComponentType();
+  if (component == ComponentEnum::CHAR || component == ComponentEnum::UCHAR || component == ComponentEnum::SHORT)
+  {
+    loaded.HU = ReadVolumeFileAs<HUVolumeType>(path, io);
+    return;
+  }
+  loaded.Image = ReadVolumeFileAs<VolumeType>(path, io);
 }
 } // namespace pbdrr

@@ -31,6 +31,11 @@ namespace pbdrr
  * readers, MetaImage's, only say so on std::cerr and carry on); the reader's other messages still reach std::cerr. */
 VolumeType::Pointer
 ReadVolumeFile(const std::string & path, const itk::ImageIOBase::Pointer & io);
+
+/** The same read as ReadVolumeFile(), into the HU volume of `loaded` when the file's pixel type is one an int16 holds
+ * (int8, uint8, int16: read as stored, 2 bytes per voxel), else into its float volume. */
+void
+ReadVolumeFileInto(const std::string & path, const itk::ImageIOBase::Pointer & io, LoadedVolume & loaded);
 } // namespace pbdrr
 
 #endif

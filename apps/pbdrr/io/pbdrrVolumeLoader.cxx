@@ -93,7 +93,7 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID,
   }
   else
   {
-    loaded.Image = ReadDicomSeries(chosen.Files, notDicom, directory, progress);
+    ReadDicomSeries(chosen.Files, notDicom, directory, loaded, progress);
   }
   const std::string name = chosen.UID.empty() ? std::string("without a Series Instance UID") : chosen.UID;
   loaded.Description = "DICOM series " + name + " (" + std::to_string(chosen.Files.size()) + " files) in " + directory;
@@ -124,7 +124,7 @@ LoadVolumeFile(const std::string & input)
   {
     io->SetFileName(input);
     io->ReadImageInformation();
-    loaded.Image = ReadVolumeFile(input, io);
+    ReadVolumeFileInto(input, io, loaded);
   }
   loaded.Description = "file " + input;
   return loaded;

@@ -26,14 +26,27 @@
 
 namespace pbdrr
 {
+/** A volume of any values: mu, or HU that an int16 cannot hold (4 bytes per voxel). */
 using VolumeType = itk::Image<float, 3>;
+/** A CT as scanners store it, HU in int16 (2 bytes per voxel): what the filters read in place. */
+using HUVolumeType = itk::Image<int16_t, 3>;
 
-/** A volume read for rendering, with what the user should be told about it. */
+/** A volume read for rendering, with what the user should be told about it. Exactly one of HU and Image is set: HU for
+ * a volume whose file says every value is an integer an int16 holds (DICOM: its stored bits, slope and intercept;
+ * other files: an 8- or 16-bit signed or 8-bit unsigned pixel type), Image for any other. */
 struct LoadedVolume
 {
+  HUVolumeType::Pointer    HU;
   VolumeType::Pointer      Image;
   std::string              Description; // where it came from: file, or DICOM series and its slices
   std::vector<std::string> Notes;       // e.g. "3 series in DIR; using ..."
+
+  /** The volume, whichever its pixel type: its grid. */
+  const itk::ImageBase<3> *
+  Grid() const
+  {
+    return HU ? static_cast<const itk::ImageBase<3> *>(HU.GetPointer()) : Image.GetPointer();
+  }
 };
 
 /** Told how many files of a DICOM series have been read, of how many, while they are read (for a progress line). */
