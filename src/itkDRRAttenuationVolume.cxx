@@ -433,18 +433,31 @@ DRRAttenuationVolume::FillMuBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni,
   const float *                coarseMu = m_ResidualCoarse->GetMuBuffer();
   const uint64_t               F = m_ResidualFactor;
   const uint64_t               insideI = i < fineSize[0] ? std::min(ni, fineSize[0] - i) : 0;
-  // The coarse column of each x of the box, found once (no division per voxel).
-  constexpr uint64_t    stackColumns = 64;
-  uint64_t              columnStack[stackColumns];
-  std::vector<uint64_t> columnHeap(ni > stackColumns ? ni : 0);
-  uint64_t *            column = ni > stackColumns ? columnHeap.data() : columnStack;
-  for (uint64_t x = 0; x < ni; ++x)
-  {
-    column[x] = (i + x) / F;
-  }
+  // The coarse index of every x, y and z of the box, found once by counters (no division per voxel or row).
+  std::vector<uint64_t> heap(ni + nj + nk > 96 ? ni + nj + nk : 0);
+  uint64_t              stack[96];
+  uint64_t *            column = heap.empty() ? stack : heap.data();
+  uint64_t *            coarseJ = column + ni;
+  uint64_t *            coarseK = coarseJ + nj;
+  const auto            coarseIndices = [F](uint64_t first, uint64_t n, uint64_t * index) {
+    uint64_t c = first / F;
+    uint64_t within = first % F;
+    for (uint64_t x = 0; x < n; ++x)
+    {
+      index[x] = c;
+      if (++within == F)
+      {
+        within = 0;
+        ++c;
+      }
+    }
+  };
+  coarseIndices(i, ni, column);
+  coarseIndices(j, nj, coarseJ);
+  coarseIndices(k, nk, coarseK);
   for (uint64_t z = 0; z < nk; ++z)
   {
-    const uint64_t coarsePlane = coarseSize[1] * ((k + z) / F);
+    const uint64_t coarsePlane = coarseSize[1] * coarseK[z];
     for (uint64_t y = 0; y < nj; ++y)
     {
       float *        row = out + ni * (y + nj * z);
@@ -454,7 +467,7 @@ DRRAttenuationVolume::FillMuBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni,
       {
         fine.FillMuRow(i, j + y, k + z, inside, row);
       }
-      const float * coarseRow = coarseMu + coarseSize[0] * ((j + y) / F + coarsePlane);
+      const float * coarseRow = coarseMu + coarseSize[0] * (coarseJ[y] + coarsePlane);
       for (uint64_t x = 0; x < ni; ++x)
       {
         const double value = x < inside ? static_cast<double>(row[x]) : 0.0;
@@ -488,11 +501,19 @@ DRRAttenuationVolume::FillResidualRow(uint64_t i, uint64_t j, uint64_t k, uint64
     {
       fine.FillMuRow(first, j, k, inside, fineRow);
     }
+    // The coarse column by a counter, not a division per voxel.
+    uint64_t column = first / F;
+    uint64_t within = first % F;
     for (uint64_t y = 0; y < n; ++y)
     {
-      const double coarse = coarseRow[(first + y) / F];
+      const double coarse = coarseRow[column];
       const double value = y < inside ? static_cast<double>(fineRow[y]) : 0.0;
       out[x + y] = value - coarse;
+      if (++within == F)
+      {
+        within = 0;
+        ++column;
+      }
     }
   }
 }
