@@ -13,7 +13,8 @@
 # Volumes: the chest as pbdrr reads it (the DICOM series), and scripts/make_large_ct.py's 2x (1024 x 1024 x 550,
 # int16 HU .mha) and 4x (2048 x 2048 x 1100) chests: trilinear upsampling + 20 HU of Gaussian noise, same box.
 # View: AP (pbdrr --gantry 90), 256 x 256 pixels of 2.4 mm, SAD 1000, SID 1500, isocenter at the volume centre.
-# Per volume, RUNS interleaved rounds of three whole processes, each under /usr/bin/time -f '%e s %M KB':
+# Per volume, RUNS interleaved rounds of three whole processes, each under /usr/bin/time -f '%e s %M KB %U %S'
+# (elapsed, peak RSS, user and system CPU seconds: the CPU time is what other jobs on the machine disturb least):
 #   (a) pbdrr with its defaults on the HU volume (-v: its stage times and table sizes go to OUT/VOLUME/default.*.err)
 #   (b) pbdrr --exact siddon on the HU volume
 #   (c) plastimatch drr -A cpu -P none -i exact on the mu volume mu = 0.02059 max(0, 1 + HU/1000) (1/mm): pbdrr's
@@ -79,7 +80,7 @@ timed() {  # volume tool run cmd...: whole process under /usr/bin/time, one line
   local vol=$1 tool=$2 run=$3 rc=0 cap=() load; shift 3
   load=$(cut -d' ' -f1 /proc/loadavg)
   [ "$vol" = x4 ] && cap=(prlimit --as=$((CAP_GB * 1024 ** 3)))
-  /usr/bin/time -f '%e s %M KB' -o "$OUT/$vol/$tool.$run.time" "${cap[@]}" "$@" \
+  /usr/bin/time -f '%e s %M KB %U %S' -o "$OUT/$vol/$tool.$run.time" "${cap[@]}" "$@" \
     >"$OUT/$vol/$tool.$run.out" 2>"$OUT/$vol/$tool.$run.err" || rc=$?
   printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$vol" "$tool" "$run" "$rc" "$(tail -1 "$OUT/$vol/$tool.$run.time")" "$load" \
     >>"$OUT/times.tsv"
@@ -117,7 +118,7 @@ load1=$(cut -d' ' -f1-3 /proc/loadavg)
        "before: $load0; after: $load1."
   echo
   echo "AP view, 256 x 256 pixels of 2.4 mm, SAD 1000, SID 1500, isocenter at the volume centre. Whole process,"\
-       "median of $RUNS interleaved rounds (/usr/bin/time: elapsed, peak RSS). NRMSE = RMSE / range of"\
+       "median of $RUNS interleaved rounds (/usr/bin/time: elapsed, user + system CPU, peak RSS). NRMSE = RMSE / range of"\
        "pbdrr \`--exact siddon --ss 4\` on the same volume (plastimatch's image x 10), last round's image."
   echo
   "$PY" - "$OUT" "$root" <<'PYEOF'
@@ -132,8 +133,8 @@ TOOLS = [("default", "pbdrr (defaults)", "default.mha"), ("siddon", "pbdrr --exa
 vols = [l.rstrip("\n").split("\t") for l in open(os.path.join(out, "volumes.tsv"))]
 times = [l.rstrip("\n").split("\t") for l in open(os.path.join(out, "times.tsv"))]
 rows = []
-print("| volume | voxels | tool | time (s) | peak RSS (MiB) | bytes/voxel | NRMSE | rounds (s) | status |")
-print("|---|---:|---|---:|---:|---:|---:|---|---|")
+print("| volume | voxels | tool | time (s) | CPU (s) | peak RSS (MiB) | bytes/voxel | NRMSE | rounds (s) | status |")
+print("|---|---:|---|---:|---:|---:|---:|---:|---|---|")
 for vol, nvox, _, _ in vols:
     d = os.path.join(out, vol)
     ref = read_mha(os.path.join(d, "ref.mha"))[0].astype(float) if os.path.exists(os.path.join(d, "ref.mha")) else None
@@ -143,6 +144,7 @@ for vol, nvox, _, _ in vols:
         use = ok or t  # a tool that always failed: how long it ran and how much memory it took
         secs = [float(r[4].split()[0]) for r in use]
         kb = [int(r[4].split()[2]) for r in use]
+        cpu = [float(r[4].split()[4]) + float(r[4].split()[5]) for r in use]
         nrmse = ""
         if ok and ref is not None:
             a = read_pfm(os.path.join(d, img)) * 10.0 if img.endswith(".pfm") else read_mha(os.path.join(d, img))[0]
@@ -154,11 +156,13 @@ for vol, nvox, _, _ in vols:
             status = "%d/%d failed (exit %s): %s" % (len(t) - len(ok), len(t), bad[3],
                                                      (err[-1] if err else "").replace("|", "/")[:160])
         row = dict(volume=vol, voxels=int(nvox), tool=name, median_s="%.3f" % statistics.median(secs),
+                   median_cpu_s="%.3f" % statistics.median(cpu),
                    peak_mib="%.0f" % (statistics.median(kb) / 1024), nrmse=nrmse,
                    times_s=" ".join("%.2f" % s for s in secs), peak_kb=" ".join(map(str, kb)),
                    ok_runs=len(ok), runs=len(t), status=status)
         rows.append(row)
-        print("| %s | %.3g | %s | %s | %s | %.1f | %s | %s | %s |" % (vol, int(nvox), name, row["median_s"],
+        print("| %s | %.3g | %s | %s | %s | %s | %.1f | %s | %s | %s |" % (vol, int(nvox), name, row["median_s"],
+              row["median_cpu_s"],
               row["peak_mib"], statistics.median(kb) * 1024 / int(nvox), nrmse, row["times_s"], status))
 loads = [float(r[5]) for r in times]
 print("\n1-minute load average at the start of each timed process: %.2f .. %.2f (%d cores)."
