@@ -196,6 +196,21 @@ public:
   void
   FillResidualRow(uint64_t i, uint64_t j, uint64_t k, uint64_t count, double * out) const;
 
+  /** True if the signed residual r = mu - mu_c of voxel (i, j, k) of a residual volume (BuildResidual()) is negative:
+   * a point drawn there carries a negative weight. The test of FillResidualRow()'s double arithmetic, for one voxel:
+   * the renderer asks it per point instead of holding a sign per voxel. */
+  bool
+  IsNegativeResidual(uint64_t i, uint64_t j, uint64_t k) const
+  {
+    const SizeType & fine = m_ResidualFine->GetSize();
+    const double     value = i < fine[0] && j < fine[1] && k < fine[2]
+                               ? static_cast<double>(m_ResidualFineReader(i + fine[0] * (j + fine[1] * k)))
+                               : 0.0;
+    const SizeType & coarse = m_ResidualCoarse->GetSize();
+    const uint64_t   F = m_ResidualFactor;
+    return value - static_cast<double>(m_ResidualCoarseMu[i / F + coarse[0] * (j / F + coarse[1] * (k / F))]) < 0.0;
+  }
+
   /** True for a residual volume (BuildResidual()). */
   bool
   IsResidual() const
@@ -468,6 +483,8 @@ private:
   ConstPointer              m_ResidualFine;
   ConstPointer              m_ResidualCoarse;
   uint64_t                  m_ResidualFactor{ 0 };
+  MuReader                  m_ResidualFineReader;
+  const float *             m_ResidualCoarseMu{ nullptr };
   mutable double            m_ResidualMuSum{ 0.0 };
   mutable std::atomic<bool> m_ResidualStatisticsReady{ false };
   mutable float             m_SmallestPositiveMu{ 0.0f };

@@ -37,14 +37,15 @@ namespace itk
  * footprint (AddCoarseImage()), so that it estimates the same pixel average as the points, without bias;
  * - the residual is sampled by points with density |r| / M_r (M_r = sum |r_v| V, GetResidualMass()), each carrying
  *   the sign of its voxel's r: any sampler initialized on GetResidualVolume() (|r| per voxel) draws them, and the
- *   renderer flips the weight of a point drawn in a voxel of GetNegativeVoxels() (DRRPointRenderer::Settings).
+ *   renderer flips the weight of a point drawn where r < 0 (DRRAttenuationVolume::IsNegativeResidual(),
+ *   DRRPointRenderer::Settings::SignedResidual).
  *
  * At equal N the residual's error scales by M_r / M against plain sampling, where the coarse image explains most of
  * the mass; the coarse image costs 4 raysPerSide^2 rays per pixel (two replicates of raysPerSide^2 antithetic pairs)
  * through F^3 fewer voxels.
  *
- * Tables: the sign of r (1 bit per voxel of the padded grid) and the coarse volume (4 / F^3 bytes per voxel); |r| is
- * computed from the volume's rows and the coarse means when a sampler reads it (DRRAttenuationVolume::BuildResidual()).
+ * Tables: the coarse volume alone (4 / F^3 bytes per voxel); |r| and its sign are computed from the volume's keys
+ * and the coarse means where they are read (DRRAttenuationVolume::BuildResidual()).
  *
  * \sa PointBasedDRRImageFilter::SetControlVariateFactor()
  * \ingroup PointBasedDRR
@@ -99,17 +100,12 @@ public:
     return *m_ResidualVolume;
   }
 
-  /** One bit per voxel of the residual volume (linear index v: bit v % 64 of word v / 64): set where r < 0. */
-  const uint64_t *
-  GetNegativeVoxels() const
-  {
-    return m_NegativeVoxels.data();
-  }
-
   /** M = sum mu_v V of the fine volume, mm^2. */
   itkGetConstMacro(TotalMass, double);
-  /** M_r = sum |r_v| V, mm^2: at equal N, the residual's error is M_r / M of plain sampling's. */
-  itkGetConstMacro(ResidualMass, double);
+  /** M_r = sum |r_v| V, mm^2: at equal N, the residual's error is M_r / M of plain sampling's. Its pass over the
+   * residual is made on the first call (a sampler initialized on the residual has it too: GetTotalMass()). */
+  double
+  GetResidualMass() const;
 
   /** Renders the coarse image for projection (built for the fine volume) with two replicates of raysPerSide^2 rays per
    * pixel drawn from the splat's footprint (streams of seed) and adds it to a render of the residual's points: the line
@@ -149,10 +145,8 @@ private:
 
   unsigned int                  m_Factor{ 0 };
   double                        m_TotalMass{ 0.0 };
-  double                        m_ResidualMass{ 0.0 };
   DRRAttenuationVolume::Pointer m_CoarseVolume;
   DRRAttenuationVolume::Pointer m_ResidualVolume;
-  std::vector<uint64_t>         m_NegativeVoxels;
 };
 } // namespace itk
 

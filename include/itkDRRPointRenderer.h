@@ -108,10 +108,10 @@ public:
      * per stratum (N >= 16 R, HasEnoughSamplesPerStratum()), otherwise, like R = 1, one stratum (standard error from
      * the points as if they were independent). */
     uint64_t NumberOfStrata{ 0 };
-    /** Signed points (the residual of a control variate, DRRControlVariate::GetNegativeVoxels()): one bit per voxel
-     * of the volume (bit v % 64 of word v / 64), set where a point drawn in the voxel carries a negative weight; null:
-     * every weight is positive. */
-    const uint64_t * NegativeVoxels{ nullptr };
+    /** Signed points: the residual volume of a control variate (DRRControlVariate::GetResidualVolume()), whose
+     * DRRAttenuationVolume::IsNegativeResidual() says which points carry a negative weight; null: every weight is
+     * positive. */
+    const DRRAttenuationVolume * SignedResidual{ nullptr };
     /** Channels (docs/design.md section 13): the channel, 0 to NumberOfChannels - 1, of every voxel of the volume (x
      * fastest, DRRAttenuationVolume::GetVoxelChannels()); null: one channel. A point adds to the channel of the voxel
      * it was drawn in; the channels' fixed-point sums add up, exactly, to the sums of the render without channels. */

@@ -251,6 +251,9 @@ protected:
   /** The volume the sampler draws from: the attenuation volume, or the control variate's residual. */
   const DRRAttenuationVolume &
   GetSamplingVolume();
+  /** Initializes the sampler on volume unless it already is (the same volume, unmodified, and the same sampler). */
+  void
+  InitializeSampler(const DRRAttenuationVolume & volume);
 
   /** F of the next render: ControlVariateFactor, or the choice for the view (AutomaticControlVariateFactor). */
   unsigned int

@@ -102,17 +102,6 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSamplingVolume()
     m_ControlVariateVolume = volume;
     m_ControlVariateVolumeTime = volume->GetMTime();
     m_DeclinedControlVariateFactor = 0;
-    if (automatic &&
-        m_ControlVariate->GetResidualMass() > MaximumAutomaticResidualFraction * m_ControlVariate->GetTotalMass())
-    {
-      // The residual would hold more than the stated fraction of the mass: the points' error would shrink by less
-      // than the coarse image costs (or grow, above 1). `auto` renders without a control variate.
-      itkDebugMacro("control variate F " << factor << " declined: M_r / M = "
-                                         << m_ControlVariate->GetResidualMass() / m_ControlVariate->GetTotalMass());
-      m_DeclinedControlVariateFactor = factor;
-      m_ControlVariate = nullptr;
-      return *volume;
-    }
   }
   return m_ControlVariate->GetResidualVolume();
 }
@@ -126,11 +115,30 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
     itkExceptionMacro("no sampler set");
   }
   const DRRAttenuationVolume * volume = &this->GetSamplingVolume();
-  if (m_SamplerVolume != volume || m_SamplerVolumeTime != volume->GetMTime() || m_SamplerTime != m_Sampler->GetMTime())
+  this->InitializeSampler(*volume);
+  if (m_ControlVariateFactor == AutomaticControlVariateFactor && m_ControlVariate &&
+      m_Sampler->GetTotalMass() > MaximumAutomaticResidualFraction * m_ControlVariate->GetTotalMass())
   {
-    m_Sampler->Initialize(*volume);
-    m_SamplerVolume = volume;
-    m_SamplerVolumeTime = volume->GetMTime();
+    // The residual holds more than the stated fraction of the mass (M_r as the sampler summed it, no pass of its
+    // own): the points' error would shrink by less than the coarse image costs (or grow, above 1). `auto` renders
+    // without a control variate.
+    itkDebugMacro("control variate F " << m_ControlVariate->GetFactor() << " declined: M_r / M = "
+                                       << m_Sampler->GetTotalMass() / m_ControlVariate->GetTotalMass());
+    m_DeclinedControlVariateFactor = m_ControlVariate->GetFactor();
+    m_ControlVariate = nullptr;
+    this->InitializeSampler(*this->GetAttenuationVolume());
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::InitializeSampler(const DRRAttenuationVolume & volume)
+{
+  if (m_SamplerVolume != &volume || m_SamplerVolumeTime != volume.GetMTime() || m_SamplerTime != m_Sampler->GetMTime())
+  {
+    m_Sampler->Initialize(volume);
+    m_SamplerVolume = &volume;
+    m_SamplerVolumeTime = volume.GetMTime();
     m_SamplerTime = m_Sampler->GetMTime();
   }
 }
@@ -234,7 +242,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   {
     this->PrepareSampling();
     DRRPointRenderer::Settings signedSettings = settings;
-    signedSettings.NegativeVoxels = m_ControlVariate ? m_ControlVariate->GetNegativeVoxels() : nullptr;
+    signedSettings.SignedResidual = m_ControlVariate ? &m_ControlVariate->GetResidualVolume() : nullptr;
     signedSettings.VoxelChannels = m_SamplerVolume->GetVoxelChannels();
     signedSettings.NumberOfChannels = m_SamplerVolume->GetNumberOfChannels();
     result = DRRPointRenderer::Render(
@@ -274,7 +282,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
 {
   DRRPointRenderer::Settings settings = this->MakeSettings(m_NumberOfSamples, 0);
   this->PrepareSampling();
-  settings.NegativeVoxels = m_ControlVariate ? m_ControlVariate->GetNegativeVoxels() : nullptr;
+  settings.SignedResidual = m_ControlVariate ? &m_ControlVariate->GetResidualVolume() : nullptr;
   settings.VoxelChannels = m_SamplerVolume->GetVoxelChannels();
   settings.NumberOfChannels = m_SamplerVolume->GetNumberOfChannels();
   // Everything the points depend on; the pose (transform, geometry), the splat and the weighting are not in it.

@@ -538,7 +538,8 @@ DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
   m_ResidualFine = &fine;
   m_ResidualCoarse = &coarse;
   m_ResidualFactor = factor;
-  coarse.GetMuBuffer();
+  m_ResidualFineReader = fine.GetMuReader();
+  m_ResidualCoarseMu = coarse.GetMuBuffer();
   (void)threader; // the statistics' pass, if ever asked for, runs on platform threads (ComputeResidualStatistics())
   this->SetIndexToPhysical(fine.GetIndexToPhysicalMatrix(), fine.GetOrigin());
   this->Modified();

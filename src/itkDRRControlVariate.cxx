@@ -46,7 +46,6 @@ DRRControlVariate::Build(const DRRAttenuationVolume & volume, unsigned int facto
   m_TotalMass = volume.ComputeTotalMass();
   this->BuildCoarseVolume(volume, threader);
   this->BuildResidualVolume(volume, threader);
-  // M_r comes with the signs (BuildResidualVolume()): the residual volume's own sum would be another pass.
   this->Modified();
 }
 
@@ -117,47 +116,14 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
 void
 DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader)
 {
-  const uint64_t                       F = m_Factor;
-  const DRRAttenuationVolume::SizeType fine = volume.GetSize();
-  const DRRAttenuationVolume::SizeType coarse = m_CoarseVolume->GetSize();
+  // No pass: |r| and its sign are computed where they are read (the sampler's walk, the renderer's points).
   m_ResidualVolume->BuildResidual(volume, *m_CoarseVolume, m_Factor, threader);
-  // The signs, in blocks of whole 64-voxel words (each word written by one thread), row by row, and M_r.
-  const DRRAttenuationVolume::SizeType & padded = m_ResidualVolume->GetSize();
-  const uint64_t                         numberOfVoxels = m_ResidualVolume->GetNumberOfVoxels();
-  const uint64_t                         numberOfWords = (numberOfVoxels + 63) / 64;
-  m_NegativeVoxels.assign(numberOfWords, 0);
-  uint64_t *          words = m_NegativeVoxels.data();
-  const uint64_t      numberOfBlocks = DRRAttenuationVolume::ComputeNumberOfBlocks(numberOfVoxels);
-  std::vector<double> blockMass(numberOfBlocks, 0.0); // sum of |r| per block, in voxel order (1/mm)
-  DRRAttenuationVolume::ParallelizeBlocks(
-    numberOfBlocks,
-    [&](uint64_t b) {
-      const uint64_t begin = 64 * (numberOfWords * b / numberOfBlocks);
-      const uint64_t end = std::min(numberOfVoxels, 64 * (numberOfWords * (b + 1) / numberOfBlocks));
-      double         residual[64];
-      double         mass = 0.0;
-      for (uint64_t v = begin; v < end;)
-      {
-        const uint64_t i = v % padded[0];
-        const uint64_t line = v / padded[0];
-        const uint64_t n = std::min<uint64_t>({ end - v, padded[0] - i, 64 });
-        m_ResidualVolume->FillResidualRow(i, line % padded[1], line / padded[1], n, residual);
-        for (uint64_t x = 0; x < n; ++x)
-        {
-          words[(v + x) >> 6] |= static_cast<uint64_t>(residual[x] < 0.0) << ((v + x) & 63);
-          mass += static_cast<float>(std::abs(residual[x])); // |r| as the residual volume holds it
-        }
-        v += n;
-      }
-      blockMass[b] = mass;
-    },
-    threader);
-  double mass = 0.0;
-  for (const double m : blockMass)
-  {
-    mass += m;
-  }
-  m_ResidualMass = mass * m_ResidualVolume->GetVoxelVolume();
+}
+
+double
+DRRControlVariate::GetResidualMass() const
+{
+  return m_ResidualVolume->ComputeTotalMass(); // one pass over the residual on the first call
 }
 
 void
@@ -220,8 +186,7 @@ size_t
 DRRControlVariate::GetTableSizeInBytes() const
 {
   return static_cast<size_t>(m_CoarseVolume->GetNumberOfVoxels() * sizeof(float) +
-                             m_ResidualVolume->GetBytesPerVoxel() * m_ResidualVolume->GetNumberOfVoxels() +
-                             m_NegativeVoxels.size() * sizeof(uint64_t));
+                             m_ResidualVolume->GetBytesPerVoxel() * m_ResidualVolume->GetNumberOfVoxels());
 }
 
 void
@@ -230,7 +195,7 @@ DRRControlVariate::PrintSelf(std::ostream & os, Indent indent) const
   Superclass::PrintSelf(os, indent);
   os << indent << "Factor: " << m_Factor << std::endl;
   os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
-  os << indent << "ResidualMass (mm^2): " << m_ResidualMass << std::endl;
+  os << indent << "ResidualMass (mm^2): " << this->GetResidualMass() << std::endl;
   os << indent << "TableSize (bytes): " << this->GetTableSizeInBytes() << std::endl;
 }
 } // namespace itk

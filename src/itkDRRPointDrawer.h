@@ -36,16 +36,16 @@ class PointDrawer
 {
 public:
   /** Draws from the sampler's plan for the render (of the same sampler), with the sampler's traits. */
-  PointDrawer(const DRRPointSampler &    sampler,
-              const DRRSamplerViewPlan & plan,
-              const DRRSamplerTraits &   traits,
-              uint64_t                   seed,
-              const uint64_t *           negativeVoxels = nullptr)
+  PointDrawer(const DRRPointSampler &      sampler,
+              const DRRSamplerViewPlan &   plan,
+              const DRRSamplerTraits &     traits,
+              uint64_t                     seed,
+              const DRRAttenuationVolume * signedResidual = nullptr)
     : m_Sampler(sampler)
     , m_Plan(plan)
     , m_ProvidesJitter(traits.ProvidesJitter)
     , m_Seed(seed)
-    , m_NegativeVoxels(negativeVoxels)
+    , m_SignedResidual(signedResidual)
   {}
 
   /** Calls consume(first, count) after each batch of the chunk's samples is placed (first: its first sample). */
@@ -69,7 +69,7 @@ public:
       range.Count =
         std::min({ samplesPerBatch, end - range.First, range.StratumFirst + range.StratumSize - range.First });
       this->DrawVoxels(samplerStream, range, cursor, batch);
-      if (m_NegativeVoxels)
+      if (m_SignedResidual)
       {
         this->ApplySigns(range.Count, batch);
       }
@@ -126,12 +126,9 @@ private:
   void
   ApplySigns(uint64_t count, Batch & batch) const
   {
-    const uint64_t nx = m_Plan.GetVolumeSize()[0];
-    const uint64_t nxy = nx * m_Plan.GetVolumeSize()[1];
     for (uint64_t s = 0; s < count; ++s)
     {
-      const uint64_t v = batch.I[s] + nx * batch.J[s] + nxy * batch.K[s];
-      const bool     negative = (m_NegativeVoxels[v >> 6] >> (v & 63)) & 1u;
+      const bool negative = m_SignedResidual->IsNegativeResidual(batch.I[s], batch.J[s], batch.K[s]);
       batch.Weight[s] = negative ? -batch.Weight[s] : batch.Weight[s];
     }
   }
@@ -160,11 +157,11 @@ private:
     }
   }
 
-  const DRRPointSampler &    m_Sampler;
-  const DRRSamplerViewPlan & m_Plan;
-  const bool                 m_ProvidesJitter;
-  const uint64_t             m_Seed;
-  const uint64_t *           m_NegativeVoxels;
+  const DRRPointSampler &      m_Sampler;
+  const DRRSamplerViewPlan &   m_Plan;
+  const bool                   m_ProvidesJitter;
+  const uint64_t               m_Seed;
+  const DRRAttenuationVolume * m_SignedResidual;
 };
 } // namespace DRRRendering
 } // namespace itk

@@ -258,7 +258,7 @@ DRRPointRenderer::Render(const DRRAttenuationVolume & volume,
   PrepareWorkers(workspace, strata, settings.NumberOfChannels, result.LineIntegral.size(), threader);
   DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
     return DRRPolicies::Splats::Visit(settings.Splat, [&](auto splat) {
-      const PointDrawer<decltype(kernel)>  drawer(sampler, *plan, traits, settings.Seed, settings.NegativeVoxels);
+      const PointDrawer<decltype(kernel)>  drawer(sampler, *plan, traits, settings.Seed, settings.SignedResidual);
       const PointSplatter<decltype(splat)> splatter(
         projection, fixedPoint, settings.Weighting == WeightingEnum::Unbiased);
       const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(
@@ -308,13 +308,13 @@ DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
     return cloud;
   }
   cloud->Allocate(strata.GetNumberOfSamples(),
-                  sampler.GetMaximumWeight() != 1.0 || settings.NegativeVoxels != nullptr,
+                  sampler.GetMaximumWeight() != 1.0 || settings.SignedResidual != nullptr,
                   strata.GetNumberOfStrata() > 1,
                   description);
   Workspace workspace;
   PrepareWorkers(workspace, strata, 1, 0, threader);
   DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
-    const PointDrawer<decltype(kernel)>         drawer(sampler, *plan, traits, settings.Seed, settings.NegativeVoxels);
+    const PointDrawer<decltype(kernel)>         drawer(sampler, *plan, traits, settings.Seed, settings.SignedResidual);
     const DrawChunksIntoCloud<decltype(kernel)> work(drawer, *cloud, settings.VoxelChannels);
     RunChunks(work, strata, workspace, threader, progressFilter);
     return 0;

@@ -280,7 +280,7 @@ TEST(DRRAttenuationVolume, ResidualRowsEqualTheDefinitionIncludingThePadding)
         {
           const uint64_t v = i + padded[0] * (j + padded[1] * k);
           signs += row[i] != signedResidual[v] ? 1 : 0;
-          const bool negative = (split->GetNegativeVoxels()[v >> 6] >> (v & 63)) & 1u;
+          const bool negative = residual.IsNegativeResidual(i, j, k);
           signs += negative != (signedResidual[v] < 0.0) ? 1 : 0;
         }
       }

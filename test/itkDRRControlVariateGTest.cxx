@@ -339,7 +339,7 @@ TEST(DRRControlVariate, SplitsIntoBlockMeansAndASignedResidual)
     const uint64_t i = v % 4, j = (v / 4) % 2, k = v / 8;
     const double   fine = (i < 3 && k == 0) ? mu[i + 3 * j] : 0.0;
     const double   r = fine - coarse.GetMuBuffer()[i / 2];
-    const bool     negative = (split->GetNegativeVoxels()[v >> 6] >> (v & 63)) & 1u;
+    const bool     negative = residual.IsNegativeResidual(i, j, k);
     EXPECT_NEAR(negative ? -residual.GetMuBuffer()[v] : residual.GetMuBuffer()[v], r, 1e-7) << "voxel " << v;
     sumOfMagnitudes += std::abs(r);
   }

@@ -606,7 +606,7 @@ PrintBatchTimes(double load, double first, double rest, size_t views, const Rend
     if (const itk::DRRControlVariate * split = renderer.Points->GetControlVariate())
     {
       std::cerr << "pbdrr: control variate F " << split->GetFactor() << ", M_r / M "
-                << split->GetResidualMass() / split->GetTotalMass() << std::endl;
+                << renderer.Points->GetSampler()->GetTotalMass() / split->GetTotalMass() << std::endl;
     }
   }
 }
