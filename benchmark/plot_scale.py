@@ -38,8 +38,8 @@ def main(png, inputs):
     ram = [int(l.split()[1]) / 2 ** 20 for l in open("/proc/meminfo") if l.startswith("MemTotal")]
     if ram:
         axes[1].axhline(ram[0], color="grey", ls="--", lw=1)
-        axes[1].annotate("this machine's RAM", (axes[1].get_xlim()[0], ram[0]), fontsize=7, color="grey",
-                         va="bottom")
+        axes[1].text(0.02, ram[0], "this machine's RAM", transform=axes[1].get_yaxis_transform(), fontsize=7,
+                     color="grey", va="bottom")
     for ax, title in ((axes[0], "time, whole process (s)"), (axes[1], "peak RSS (GiB)")):
         ax.set_xscale("log")
         ax.set_yscale("log")
