@@ -5,6 +5,7 @@ packages=(build-essential cmake libinsighttoolkit5-dev libgdcm-dev libgtest-dev 
   libxrl-dev                    # xraylib 4.0: cross sections and NIST compounds (DRRMaterialTable, DRRXRaySpectrum)
   clang libclang-rt-14-dev llvm # clang, libFuzzer and the sanitizers' runtimes, llvm-symbolizer: test/fuzz
   doxygen clang-format          # the docs target and its test, the formatting test (docs/, test/format)
+  python3-numpy python3-matplotlib # the benchmarks' tables and plots (benchmark/*.py, /usr/bin/python3)
   slurm-wlm munge parallel)     # batches on a Slurm cluster or GNU parallel, the test's own cluster (docs/slurm.md, test/slurm)
 missing=()
 for p in "${packages[@]}"; do
