@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "pbdrrDicomSeriesReader.h"
 #include "pbdrrDicomContent.h"
+#include "pbdrrDicomSliceReader.h"
 #include "pbdrrDicomSliceStack.h"
 #include "pbdrrDicomValues.h"
 #include "pbdrrGdcmWarningCapture.h"
@@ -121,21 +122,15 @@ SeriesHoldsInt16(const std::vector<std::string> & files)
   return true;
 }
 
+/** The slices read one file after the other by itk::ImageSeriesReader: for the files ReadDicomSlices leaves to it. */
 template <typename TVolume>
 typename TVolume::Pointer
-ReadSlices(const std::vector<std::string> & files, const SliceStack & stack, const LoadProgress & progress)
+ReadSlicesOneByOne(const std::vector<std::string> & files, bool forceOrthogonalDirection, const LoadProgress & progress)
 {
   auto reader = itk::ImageSeriesReader<TVolume>::New();
   reader->SetImageIO(itk::GDCMImageIO::New());
   reader->SetFileNames(files);
-  const Vector3 & shear = stack.ShearPerMillimetre;
-  if (shear[0] != 0.0 || shear[1] != 0.0 || shear[2] != 0.0)
-  {
-    // A gantry tilt is a sheared grid. By default ITK's series reader forces the third direction onto the slice
-    // normal, which places every slice but the first wrongly; without that, it takes the step from the first slice
-    // to the last: a non-orthogonal direction matrix, which the DRR filters map exactly (any invertible affine).
-    reader->ForceOrthogonalDirectionOff();
-  }
+  reader->SetForceOrthogonalDirection(forceOrthogonalDirection);
   if (progress)
   {
     // ImageSeriesReader reports its progress once per file read.
@@ -156,6 +151,25 @@ ReadSlices(const std::vector<std::string> & files, const SliceStack & stack, con
   reader->Update();
   typename TVolume::Pointer image = reader->GetOutput();
   image->DisconnectPipeline();
+  return image;
+}
+
+template <typename TVolume>
+typename TVolume::Pointer
+ReadSlices(const std::vector<std::string> & files, const SliceStack & stack, const LoadProgress & progress)
+{
+  // A gantry tilt is a sheared grid. By default ITK's series reader forces the third direction onto the slice normal,
+  // which places every slice but the first wrongly; without that, it takes the step from the first slice to the last:
+  // a non-orthogonal direction matrix, which the DRR filters map exactly (any invertible affine).
+  const Vector3 & shear = stack.ShearPerMillimetre;
+  const bool      forceOrthogonalDirection = shear[0] == 0.0 && shear[1] == 0.0 && shear[2] == 0.0;
+  // The files decoded in parallel, straight into the volume (the same volume as ImageSeriesReader's); the rare series
+  // it does not decode (compressed but for JPEG 2000, colour, multi-frame, ...) are read by ImageSeriesReader.
+  typename TVolume::Pointer image = ReadDicomSlices<TVolume>(files, forceOrthogonalDirection, progress);
+  if (!image)
+  {
+    image = ReadSlicesOneByOne<TVolume>(files, forceOrthogonalDirection, progress);
+  }
   auto imageSpacing = image->GetSpacing();
   imageSpacing[2] = stack.StepLength(); // mm from slice to slice along the third axis: the slices' own, not GDCM's
   image->SetSpacing(imageSpacing);

@@ -23,13 +23,39 @@
 
 namespace pbdrr
 {
+std::string
+LockedTextBuffer::Text() const
+{
+  const std::lock_guard<std::mutex> lock(m_Mutex);
+  return m_Text;
+}
+
+std::streamsize
+LockedTextBuffer::xsputn(const char * text, std::streamsize length)
+{
+  const std::lock_guard<std::mutex> lock(m_Mutex);
+  m_Text.append(text, static_cast<size_t>(length));
+  return length;
+}
+
+LockedTextBuffer::int_type
+LockedTextBuffer::overflow(int_type character)
+{
+  if (!traits_type::eq_int_type(character, traits_type::eof()))
+  {
+    const std::lock_guard<std::mutex> lock(m_Mutex);
+    m_Text.push_back(traits_type::to_char_type(character));
+  }
+  return traits_type::not_eof(character);
+}
+
 GdcmWarningCapture::GdcmWarningCapture()
   : m_WarningsWereOn(gdcm::Trace::GetWarningFlag())
   , m_WarningStream(gdcm::Trace::GetWarningStream())
   , m_ErrorStream(gdcm::Trace::GetErrorStream())
 {
-  gdcm::Trace::SetWarningStream(m_Text);
-  gdcm::Trace::SetErrorStream(m_Text);
+  gdcm::Trace::SetWarningStream(m_Stream);
+  gdcm::Trace::SetErrorStream(m_Stream);
   gdcm::Trace::WarningOn();
 }
 
@@ -43,7 +69,7 @@ GdcmWarningCapture::~GdcmWarningCapture()
 bool
 GdcmWarningCapture::PixelDataDamaged() const
 {
-  const std::string text = m_Text.str();
+  const std::string text = m_Buffer.Text();
   return text.find("Incomplete Pixel Data") != std::string::npos ||
          text.find("Fragment could not be read") != std::string::npos ||
          text.find("could be corrupted") != std::string::npos;

@@ -49,7 +49,8 @@ struct LoadedVolume
   }
 };
 
-/** Told how many files of a DICOM series have been read, of how many, while they are read (for a progress line). */
+/** Told how many files of a DICOM series have been read, of how many, while they are read (for a progress line): by the
+ * threads that read them, one call at a time. */
 using LoadProgress = std::function<void(size_t filesRead, size_t files)>;
 
 /** Reads INPUT: a DICOM series directory (series discovery through GDCM; the largest series unless seriesUID) or
