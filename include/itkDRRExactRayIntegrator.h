@@ -110,18 +110,21 @@ public:
                           unsigned int               replicates = 2) const;
 
 private:
+  using MuReaderType = DRRAttenuationVolume::MuReader;
+
   /** Siddon's traversal of the box model from the entry cell to tExit (the cursors of IntegrateSegment()): the
    * integral of mu over the segment's parameter. */
   template <bool VChannels>
   double
-  TraverseBox(const int64_t cell[3],
-              const int64_t step[3],
-              const double  tNext[3],
-              const double  tDelta[3],
-              double        tEnter,
-              double        tExit,
-              double *      channels,
-              double        channelScale) const;
+  TraverseBox(const MuReaderType & mu,
+              const int64_t        cell[3],
+              const int64_t        step[3],
+              const double         tNext[3],
+              const double         tDelta[3],
+              double               tEnter,
+              double               tExit,
+              double *             channels,
+              double               channelScale) const;
 
   /** The ray's segment through the model's support (continuous indices of the volume's own grid); returns its
    * length, mm. */
@@ -131,7 +134,11 @@ private:
   /** The trilinear interpolant in a cell (its lower corner voxel, the fractions); with channels, also adds
    * channelScale times each corner's term to its voxel's channel. */
   double
-  Trilinear(const int64_t corner[3], const double fraction[3], double * channels, double channelScale) const;
+  Trilinear(const MuReaderType & mu,
+            const int64_t        corner[3],
+            const double         fraction[3],
+            double *             channels,
+            double               channelScale) const;
 
   const DRRAttenuationVolume & m_Volume;
   bool                         m_Siddon;          // the box model's Siddon traversal, or else the trilinear one

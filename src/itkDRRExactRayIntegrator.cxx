@@ -56,27 +56,35 @@ DRRExactRayIntegrator::DRRExactRayIntegrator(const DRRAttenuationVolume & volume
 }
 
 double
-DRRExactRayIntegrator::Trilinear(const int64_t corner[3],
-                                 const double  fraction[3],
-                                 double *      channels,
-                                 double        channelScale) const
+DRRExactRayIntegrator::Trilinear(const MuReaderType & mu,
+                                 const int64_t        corner[3],
+                                 const double         fraction[3],
+                                 double *             channels,
+                                 double               channelScale) const
 {
-  double value = 0.0;
+  // The zero padding of the tent model tested here, and mu read through the volume's reader: a volume of keys is
+  // looked up in place, with no float copy of the volume (GetMuOrZero() would materialize one).
+  const int64_t size[3] = { static_cast<int64_t>(m_Volume.GetSize()[0]),
+                            static_cast<int64_t>(m_Volume.GetSize()[1]),
+                            static_cast<int64_t>(m_Volume.GetSize()[2]) };
+  double        value = 0.0;
   for (unsigned int c = 0; c < 8; ++c)
   {
-    const unsigned int dx = c & 1u;
-    const unsigned int dy = (c >> 1) & 1u;
-    const unsigned int dz = (c >> 2) & 1u;
-    const double       w = (dx ? fraction[0] : 1.0 - fraction[0]) * (dy ? fraction[1] : 1.0 - fraction[1]) *
-                     (dz ? fraction[2] : 1.0 - fraction[2]);
-    const double term = w * m_Volume.GetMuOrZero(corner[0] + dx, corner[1] + dy, corner[2] + dz);
+    const int64_t i = corner[0] + (c & 1u);
+    const int64_t j = corner[1] + ((c >> 1) & 1u);
+    const int64_t k = corner[2] + ((c >> 2) & 1u);
+    const double  w = ((c & 1u) ? fraction[0] : 1.0 - fraction[0]) *
+                     (((c >> 1) & 1u) ? fraction[1] : 1.0 - fraction[1]) *
+                     (((c >> 2) & 1u) ? fraction[2] : 1.0 - fraction[2]);
+    if (i < 0 || j < 0 || k < 0 || i >= size[0] || j >= size[1] || k >= size[2])
+    {
+      continue; // the padding: its term, w * 0 = +0, would leave the sum's bits as they are
+    }
+    const uint64_t voxel = static_cast<uint64_t>(i + size[0] * (j + size[1] * k));
+    const double   term = w * static_cast<double>(mu(voxel));
     value += term;
     if (channels && term != 0.0)
     {
-      // A term is nonzero only inside the grid.
-      const uint64_t voxel = static_cast<uint64_t>(corner[0] + dx) +
-                             m_Volume.GetSize()[0] * (static_cast<uint64_t>(corner[1] + dy) +
-                                                      m_Volume.GetSize()[1] * static_cast<uint64_t>(corner[2] + dz));
       channels[m_Volume.GetVoxelChannels()[voxel]] += channelScale * term;
     }
   }
@@ -85,14 +93,15 @@ DRRExactRayIntegrator::Trilinear(const int64_t corner[3],
 
 template <bool VChannels>
 double
-DRRExactRayIntegrator::TraverseBox(const int64_t cell[3],
-                                   const int64_t step[3],
-                                   const double  tNext[3],
-                                   const double  tDelta[3],
-                                   double        tEnter,
-                                   double        tExit,
-                                   double *      channels,
-                                   double        channelScale) const
+DRRExactRayIntegrator::TraverseBox(const MuReaderType & mu,
+                                   const int64_t        cell[3],
+                                   const int64_t        step[3],
+                                   const double         tNext[3],
+                                   const double         tDelta[3],
+                                   double               tEnter,
+                                   double               tExit,
+                                   double *             channels,
+                                   double               channelScale) const
 {
   // The traversal of IntegrateSegment(), specialised for the box model: the cursors live in scalars (an
   // array indexed by the axis goes through memory at every step), the voxel's offset is updated by a stride, and each
@@ -100,7 +109,6 @@ DRRExactRayIntegrator::TraverseBox(const int64_t cell[3],
   // operations in the same order on the same values: the same bits as the general loop.
   const int64_t   nx = static_cast<int64_t>(m_Volume.GetSize()[0]);
   const int64_t   nxy = nx * static_cast<int64_t>(m_Volume.GetSize()[1]);
-  const float *   mu = m_Volume.GetMuBuffer();
   const uint8_t * voxelChannels = m_Volume.GetVoxelChannels();
   int64_t         voxel = cell[0] + nx * cell[1] + nxy * cell[2]; // the last step may leave the grid: never read then
   const int64_t   stride0 = step[0];
@@ -119,10 +127,10 @@ DRRExactRayIntegrator::TraverseBox(const int64_t cell[3],
     const double       tEnd = std::min(axis == 0 ? next0 : (axis == 1 ? next1 : next2), tExit);
     if (tEnd > t)
     {
-      integral += (tEnd - t) * mu[voxel];
+      integral += (tEnd - t) * mu(static_cast<uint64_t>(voxel));
       if (VChannels)
       {
-        channels[voxelChannels[voxel]] += channelScale * ((tEnd - t) * mu[voxel]);
+        channels[voxelChannels[voxel]] += channelScale * ((tEnd - t) * mu(static_cast<uint64_t>(voxel)));
       }
     }
     t = tEnd;
@@ -226,10 +234,12 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
     }
   }
 
+  // mu read in place from a volume of keys (16-bit input adds no byte per voxel), else from mu per voxel.
+  const MuReaderType mu = m_Volume.GetMuReader();
   if (m_Siddon)
   {
-    return channels ? this->TraverseBox<true>(cell, step, tNext, tDelta, tEnter, tExit, channels, channelScale)
-                    : this->TraverseBox<false>(cell, step, tNext, tDelta, tEnter, tExit, nullptr, 0.0);
+    return channels ? this->TraverseBox<true>(mu, cell, step, tNext, tDelta, tEnter, tExit, channels, channelScale)
+                    : this->TraverseBox<false>(mu, cell, step, tNext, tDelta, tEnter, tExit, nullptr, 0.0);
   }
   const double gaussOffset = 0.5 / std::sqrt(3.0);
   double       integral = 0.0;
@@ -255,7 +265,7 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
         {
           fraction[a] = std::min(std::max(p0[a] + node * d[a] - static_cast<double>(corner[a]), 0.0), 1.0);
         }
-        integral += 0.5 * length * this->Trilinear(corner, fraction, channels, channelScale * 0.5 * length);
+        integral += 0.5 * length * this->Trilinear(mu, corner, fraction, channels, channelScale * 0.5 * length);
       }
     }
     t = tEnd;
