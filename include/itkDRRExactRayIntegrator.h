@@ -113,18 +113,19 @@ private:
   using MuReaderType = DRRAttenuationVolume::MuReader;
 
   /** Siddon's traversal of the box model from the entry cell to tExit (the cursors of IntegrateSegment()): the
-   * integral of mu over the segment's parameter. */
-  template <bool VChannels>
+   * integral of mu over the segment's parameter. VDominant: the axis of most planes, whose steps take the short path.
+   */
+  template <bool VChannels, unsigned int VDominant>
   double
-  TraverseBox(const MuReaderType & mu,
-              const int64_t        cell[3],
-              const int64_t        step[3],
-              const double         tNext[3],
-              const double         tDelta[3],
-              double               tEnter,
-              double               tExit,
-              double *             channels,
-              double               channelScale) const;
+  TraverseBox(MuReaderType  mu,
+              const int64_t cell[3],
+              const int64_t step[3],
+              const double  tNext[3],
+              const double  tDelta[3],
+              double        tEnter,
+              double        tExit,
+              double *      channels,
+              double        channelScale) const;
 
   /** The ray's segment through the model's support (continuous indices of the volume's own grid); returns its
    * length, mm. */

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace itk
 {
@@ -127,40 +128,54 @@ DRRExactRayIntegrator::Trilinear(const double   cornerMu[8],
   return value;
 }
 
-template <bool VChannels>
+template <bool VChannels, unsigned int VDominant>
 double
-DRRExactRayIntegrator::TraverseBox(const MuReaderType & mu,
-                                   const int64_t        cell[3],
-                                   const int64_t        step[3],
-                                   const double         tNext[3],
-                                   const double         tDelta[3],
-                                   double               tEnter,
-                                   double               tExit,
-                                   double *             channels,
-                                   double               channelScale) const
+DRRExactRayIntegrator::TraverseBox(MuReaderType  mu,
+                                   const int64_t cell[3],
+                                   const int64_t step[3],
+                                   const double  tNext[3],
+                                   const double  tDelta[3],
+                                   double        tEnter,
+                                   double        tExit,
+                                   double *      channels,
+                                   double        channelScale) const
 {
-  // The traversal of IntegrateSegment(), specialised for the box model: the cursors live in scalars (an
-  // array indexed by the axis goes through memory at every step), the voxel's offset is updated by a stride, and each
-  // axis counts the planes left before the grid's end instead of testing the cell against both bounds. The same
-  // operations in the same order on the same values: the same bits as the general loop.
-  const int64_t   nx = static_cast<int64_t>(m_Volume.GetSize()[0]);
-  const int64_t   nxy = nx * static_cast<int64_t>(m_Volume.GetSize()[1]);
-  const uint8_t * voxelChannels = m_Volume.GetVoxelChannels();
-  int64_t         voxel = cell[0] + nx * cell[1] + nxy * cell[2]; // the last step may leave the grid: never read then
-  const int64_t   stride0 = step[0];
-  const int64_t   stride1 = step[1] * nx;
-  const int64_t   stride2 = step[2] * nxy;
+  // The traversal of IntegrateSegment(), specialised for the box model: the voxel's offset is updated by a stride,
+  // and each axis counts the planes left before the grid's end instead of testing the cell against both bounds. The
+  // cursors are indexed by constants only, so they live in registers (an array indexed by a variable axis goes
+  // through memory at every step). The axis is chosen by the general loop's rule, the first plane with ties to the
+  // larger axis, written as a test of the dominant axis (the one of most planes, VDominant) first: most steps cross
+  // its planes, and they run straight through one short path, where the general selection jumped two or three times
+  // per step. The same operations in the same order on the same values: the same bits as the general loop. The
+  // reader is taken by value, a local whose pointers stay in registers rather than being read again at every step.
+  constexpr unsigned int D = VDominant;
+  constexpr unsigned int A = (D + 1) % 3;
+  constexpr unsigned int B = (D + 2) % 3;
+  const int64_t          nx = static_cast<int64_t>(m_Volume.GetSize()[0]);
+  const int64_t          nxy = nx * static_cast<int64_t>(m_Volume.GetSize()[1]);
+  const uint8_t *        voxelChannels = m_Volume.GetVoxelChannels();
+  int64_t       voxel = cell[0] + nx * cell[1] + nxy * cell[2]; // the last step may leave the grid: never read then
+  const int64_t stride[3] = { step[0], step[1] * nx, step[2] * nxy };
   // Planes left along each axis before the ray leaves the grid (an axis the ray does not cross is never chosen).
-  int64_t left0 = step[0] > 0 ? m_NumberOfCells[0] - cell[0] : cell[0] + 1;
-  int64_t left1 = step[1] > 0 ? m_NumberOfCells[1] - cell[1] : cell[1] + 1;
-  int64_t left2 = step[2] > 0 ? m_NumberOfCells[2] - cell[2] : cell[2] + 1;
-  double  next0 = tNext[0], next1 = tNext[1], next2 = tNext[2];
-  double  integral = 0.0;
-  double  t = tEnter;
-  while (t < tExit)
+  int64_t left[3];
+  double  next[3];
+  for (unsigned int a = 0; a < 3; ++a)
   {
-    const unsigned int axis = next0 < next1 ? (next0 < next2 ? 0 : 2) : (next1 < next2 ? 1 : 2);
-    const double       tEnd = std::min(axis == 0 ? next0 : (axis == 1 ? next1 : next2), tExit);
+    left[a] = step[a] > 0 ? m_NumberOfCells[a] - cell[a] : cell[a] + 1;
+    next[a] = tNext[a];
+  }
+  const double delta[3] = { tDelta[0], tDelta[1], tDelta[2] };
+  double       integral = 0.0;
+  double       t = tEnter;
+  // Whether axis a's plane comes before axis b's: the earlier one, or on a tie the larger axis.
+  const auto before = [&next](auto a, auto b) {
+    return decltype(a)::value > decltype(b)::value ? next[decltype(a)::value] <= next[decltype(b)::value]
+                                                   : next[decltype(a)::value] < next[decltype(b)::value];
+  };
+  // The segment up to axis a's plane (or the exit), then the step across it; false once the ray leaves the grid.
+  const auto advance = [&](auto axis) {
+    constexpr unsigned int a = decltype(axis)::value;
+    const double           tEnd = std::min(next[a], tExit);
     if (tEnd > t)
     {
       integral += (tEnd - t) * mu(static_cast<uint64_t>(voxel));
@@ -170,32 +185,25 @@ DRRExactRayIntegrator::TraverseBox(const MuReaderType & mu,
       }
     }
     t = tEnd;
-    if (axis == 0)
+    next[a] += delta[a];
+    voxel += stride[a];
+    return --left[a] != 0;
+  };
+  using DAxis = std::integral_constant<unsigned int, D>;
+  using AAxis = std::integral_constant<unsigned int, A>;
+  using BAxis = std::integral_constant<unsigned int, B>;
+  while (t < tExit)
+  {
+    if (before(DAxis(), AAxis()) && before(DAxis(), BAxis()))
     {
-      next0 += tDelta[0];
-      voxel += stride0;
-      if (--left0 == 0)
+      if (!advance(DAxis()))
       {
         break;
       }
     }
-    else if (axis == 1)
+    else if (!(before(AAxis(), BAxis()) ? advance(AAxis()) : advance(BAxis())))
     {
-      next1 += tDelta[1];
-      voxel += stride1;
-      if (--left1 == 0)
-      {
-        break;
-      }
-    }
-    else
-    {
-      next2 += tDelta[2];
-      voxel += stride2;
-      if (--left2 == 0)
-      {
-        break;
-      }
+      break;
     }
   }
   return integral;
@@ -274,8 +282,24 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
   const MuReaderType mu = m_Volume.GetMuReader();
   if (m_Siddon)
   {
-    return channels ? this->TraverseBox<true>(mu, cell, step, tNext, tDelta, tEnter, tExit, channels, channelScale)
-                    : this->TraverseBox<false>(mu, cell, step, tNext, tDelta, tEnter, tExit, nullptr, 0.0);
+    // The dominant axis: the most planes, the smallest parameter between two (an axis not crossed has infinity).
+    const unsigned int dominant =
+      tDelta[0] < tDelta[1] ? (tDelta[0] < tDelta[2] ? 0 : 2) : (tDelta[1] < tDelta[2] ? 1 : 2);
+    switch (dominant)
+    {
+      case 0:
+        return channels
+                 ? this->TraverseBox<true, 0>(mu, cell, step, tNext, tDelta, tEnter, tExit, channels, channelScale)
+                 : this->TraverseBox<false, 0>(mu, cell, step, tNext, tDelta, tEnter, tExit, nullptr, 0.0);
+      case 1:
+        return channels
+                 ? this->TraverseBox<true, 1>(mu, cell, step, tNext, tDelta, tEnter, tExit, channels, channelScale)
+                 : this->TraverseBox<false, 1>(mu, cell, step, tNext, tDelta, tEnter, tExit, nullptr, 0.0);
+      default:
+        return channels
+                 ? this->TraverseBox<true, 2>(mu, cell, step, tNext, tDelta, tEnter, tExit, channels, channelScale)
+                 : this->TraverseBox<false, 2>(mu, cell, step, tNext, tDelta, tEnter, tExit, nullptr, 0.0);
+    }
   }
   const double gaussOffset = 0.5 / std::sqrt(3.0);
   double       integral = 0.0;
