@@ -110,11 +110,15 @@ public:
                           unsigned int               replicates = 2) const;
 
 private:
+  using MuReaderType = DRRAttenuationVolume::MuReader;
+
   /** Siddon's traversal of the box model from the entry cell to tExit (the cursors of IntegrateSegment()): the
-   * integral of mu over the segment's parameter. */
-  template <bool VChannels>
+   * integral of mu over the segment's parameter. VDominant: the axis of most planes, whose steps take the short path.
+   */
+  template <bool VChannels, unsigned int VDominant>
   double
-  TraverseBox(const int64_t cell[3],
+  TraverseBox(MuReaderType  mu,
+              const int64_t cell[3],
               const int64_t step[3],
               const double  tNext[3],
               const double  tDelta[3],
@@ -128,10 +132,19 @@ private:
   double
   ComputeRaySegment(const DRRPointProjection & projection, double column, double row, double p0[3], double p1[3]) const;
 
-  /** The trilinear interpolant in a cell (its lower corner voxel, the fractions); with channels, also adds
-   * channelScale times each corner's term to its voxel's channel. */
+  /** mu of the 8 corners of the cell whose lower corner is voxel corner (zero in the padding) and their linear
+   * indices; corner c is (c & 1, (c >> 1) & 1, c >> 2) from it. */
+  void
+  ReadCorners(const MuReaderType & mu, const int64_t corner[3], double cornerMu[8], uint64_t cornerVoxel[8]) const;
+
+  /** The trilinear interpolant in a cell (its corners' mu and indices, ReadCorners(); the fractions); with channels,
+   * also adds channelScale times each corner's term to its voxel's channel. */
   double
-  Trilinear(const int64_t corner[3], const double fraction[3], double * channels, double channelScale) const;
+  Trilinear(const double   cornerMu[8],
+            const uint64_t cornerVoxel[8],
+            const double   fraction[3],
+            double *       channels,
+            double         channelScale) const;
 
   const DRRAttenuationVolume & m_Volume;
   bool                         m_Siddon;          // the box model's Siddon traversal, or else the trilinear one
