@@ -118,10 +118,7 @@ public:
    * (in the fixed blocks' order, as a volume of mu per voxel would give them) take one pass, made when first asked
    * for. The index-to-physical mapping is fine's. */
   void
-  BuildResidual(const DRRAttenuationVolume & fine,
-                const DRRAttenuationVolume & coarse,
-                unsigned int                 factor,
-                MultiThreaderBase *          threader);
+  BuildResidual(const DRRAttenuationVolume & fine, const DRRAttenuationVolume & coarse, unsigned int factor);
 
   /** mu (1/mm) of the count voxels (i .. i + count - 1, j, k) of one row, all inside the grid, into out: a lookup of
    * the keys, a copy of mu, or the residual computed. Thread-safe; the cheap way to read the volume by rows. */
@@ -407,11 +404,7 @@ private:
   CountIntegerKeys(const TValue * values, double offset, KeyCounts & counts, MultiThreaderBase * threader) const;
   template <typename TValue>
   void
-  BuildLevels(const TValue *              values,
-              double                      offset,
-              const KeyCounts &           counts,
-              const DRRTransferFunction & transfer,
-              MultiThreaderBase *         threader);
+  BuildLevels(const TValue * values, double offset, KeyCounts && counts, const DRRTransferFunction & transfer);
   template <typename TValue>
   void
   BuildMu(const TValue * values, const DRRTransferFunction & transfer, MultiThreaderBase * threader);

@@ -175,7 +175,7 @@ DRRAttenuationVolume::Build(const TValue *              values,
   }
   if (integral)
   {
-    this->BuildLevels(values, offset, counts, transfer, threader);
+    this->BuildLevels(values, offset, std::move(counts), transfer);
     this->KeepKeys(values, offset, threader, valueOwner);
     this->Modified();
     return;
@@ -273,9 +273,8 @@ template <typename TValue>
 void
 DRRAttenuationVolume::BuildLevels(const TValue *              values,
                                   double                      offset,
-                                  const KeyCounts &           counts,
-                                  const DRRTransferFunction & transfer,
-                                  MultiThreaderBase *         threader)
+                                  KeyCounts &&                counts,
+                                  const DRRTransferFunction & transfer)
 {
   const uint64_t numberOfBlocks = counts.Lowest.size();
   uint32_t       lowest = DRRAttenuationVolumeDetail::MaximumKey;
@@ -360,8 +359,7 @@ DRRAttenuationVolume::BuildLevels(const TValue *              values,
   }
   m_LevelOfKey = std::move(levelOfKey);
   m_LowestKey = lowest;
-  m_KeyCounts = counts;
-  (void)threader;
+  m_KeyCounts = std::move(counts); // kept for the level lists, built on request (MaterializeLevelVoxels())
 }
 
 template <typename TValue>

@@ -141,7 +141,7 @@ private:
   void
   BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
   void
-  BuildResidualVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
+  BuildResidualVolume(const DRRAttenuationVolume & volume);
 
   unsigned int                  m_Factor{ 0 };
   double                        m_TotalMass{ 0.0 };

@@ -521,8 +521,7 @@ DRRAttenuationVolume::FillResidualRow(uint64_t i, uint64_t j, uint64_t k, uint64
 void
 DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
                                     const DRRAttenuationVolume & coarse,
-                                    unsigned int                 factor,
-                                    MultiThreaderBase *          threader)
+                                    unsigned int                 factor)
 {
   const SizeType & coarseSize = coarse.GetSize();
   this->Reset(SizeType{ { coarseSize[0] * factor, coarseSize[1] * factor, coarseSize[2] * factor } });
@@ -540,7 +539,6 @@ DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
   m_ResidualFactor = factor;
   m_ResidualFineReader = fine.GetMuReader();
   m_ResidualCoarseMu = coarse.GetMuBuffer();
-  (void)threader; // the statistics' pass, if ever asked for, runs on platform threads (ComputeResidualStatistics())
   this->SetIndexToPhysical(fine.GetIndexToPhysicalMatrix(), fine.GetOrigin());
   this->Modified();
 }

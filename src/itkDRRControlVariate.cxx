@@ -45,7 +45,7 @@ DRRControlVariate::Build(const DRRAttenuationVolume & volume, unsigned int facto
   m_Factor = factor;
   m_TotalMass = volume.ComputeTotalMass();
   this->BuildCoarseVolume(volume, threader);
-  this->BuildResidualVolume(volume, threader);
+  this->BuildResidualVolume(volume);
   this->Modified();
 }
 
@@ -114,10 +114,10 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
 }
 
 void
-DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader)
+DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume)
 {
   // No pass: |r| and its sign are computed where they are read (the sampler's walk, the renderer's points).
-  m_ResidualVolume->BuildResidual(volume, *m_CoarseVolume, m_Factor, threader);
+  m_ResidualVolume->BuildResidual(volume, *m_CoarseVolume, m_Factor);
 }
 
 double
