@@ -72,6 +72,31 @@ EveryInt16Value()
 
 const itk::DRRAttenuationVolume::SizeType everySize{ { 64, 32, 32 } };
 
+/** Uniformly random HU in [lowest, highest] on a grid, from a fixed seed. */
+std::vector<int16_t>
+RandomHU(const itk::DRRAttenuationVolume::SizeType & size, int lowest, int highest, unsigned int seed)
+{
+  std::vector<int16_t>               values(size[0] * size[1] * size[2]);
+  std::mt19937                       random(seed);
+  std::uniform_int_distribution<int> hu(lowest, highest);
+  for (auto & value : values)
+  {
+    value = static_cast<int16_t>(hu(random));
+  }
+  return values;
+}
+
+/** A volume of int16 HU under the natural transfer function, read in place (its values must outlive it). */
+itk::DRRAttenuationVolume::Pointer
+BuildInPlace(const std::vector<int16_t> & values, const itk::DRRAttenuationVolume::SizeType & size)
+{
+  auto transfer = itk::DRRTransferFunction::New();
+  auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
+  auto volume = itk::DRRAttenuationVolume::New();
+  volume->Build(values.data(), size, *transfer, nullptr, owner.GetPointer());
+  return volume;
+}
+
 /** Every voxel's mu read by rows (FillMuRow()) and by boxes (FillMuBox()). */
 std::vector<float>
 ReadByRows(const itk::DRRAttenuationVolume & volume)
@@ -179,17 +204,8 @@ TEST(DRRAttenuationVolume, KeyLookupEqualsTheTransferFunctionForEveryInt16Value)
 TEST(DRRAttenuationVolume, InPlaceKeysAddNoBytePerVoxelUntilMuOrLevelListsAreAskedFor)
 {
   const itk::DRRAttenuationVolume::SizeType size{ { 256, 128, 64 } };
-  std::vector<int16_t>                      values(size[0] * size[1] * size[2]);
-  std::mt19937                              random(3);
-  std::uniform_int_distribution<int>        hu(-1100, 1500);
-  for (auto & value : values)
-  {
-    value = static_cast<int16_t>(hu(random));
-  }
-  auto transfer = itk::DRRTransferFunction::New();
-  auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
-  auto volume = itk::DRRAttenuationVolume::New();
-  volume->Build(values.data(), size, *transfer, nullptr, owner.GetPointer());
+  const std::vector<int16_t>                values = RandomHU(size, -1100, 1500, 3);
+  const auto                                volume = BuildInPlace(values, size);
   EXPECT_LT(volume->GetBytesPerVoxel(), 0.2); // the key table alone
   const uint32_t * voxels = volume->GetLevelVoxels();
   ASSERT_NE(voxels, nullptr);
@@ -219,17 +235,9 @@ TEST(DRRAttenuationVolume, InPlaceKeysAddNoBytePerVoxelUntilMuOrLevelListsAreAsk
 TEST(DRRAttenuationVolume, ResidualRowsEqualTheDefinitionIncludingThePadding)
 {
   const itk::DRRAttenuationVolume::SizeType size{ { 37, 22, 13 } }; // no axis a multiple of 2, 4 or 8
-  std::vector<int16_t>                      values(size[0] * size[1] * size[2]);
-  std::mt19937                              random(11);
-  std::uniform_int_distribution<int>        hu(-1000, 2000);
-  for (auto & value : values)
-  {
-    value = static_cast<int16_t>(hu(random));
-  }
-  auto transfer = itk::DRRTransferFunction::New();
-  auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
-  auto volume = itk::DRRAttenuationVolume::New();
-  volume->Build(values.data(), size, *transfer, nullptr, owner.GetPointer());
+  const std::vector<int16_t>                values = RandomHU(size, -1000, 2000, 11);
+  const auto                                volume = BuildInPlace(values, size);
+  const auto transfer = itk::DRRTransferFunction::New(); // BuildInPlace()'s, for the definition
   for (const unsigned int F : { 2u, 3u, 4u, 8u })
   {
     const std::string context = "F " + std::to_string(F);
@@ -296,18 +304,9 @@ TEST(DRRAttenuationVolume, ResidualRowsEqualTheDefinitionIncludingThePadding)
 TEST(DRRStratifiedSampler, BrickSumsEqualADirectSumOverEveryBrick)
 {
   const itk::DRRAttenuationVolume::SizeType size{ { 45, 30, 19 } };
-  std::vector<int16_t>                      values(size[0] * size[1] * size[2]);
-  std::mt19937                              random(5);
-  std::uniform_int_distribution<int>        hu(-1300, 1800); // a third of the voxels air
-  for (auto & value : values)
-  {
-    value = static_cast<int16_t>(hu(random));
-  }
-  auto transfer = itk::DRRTransferFunction::New();
-  auto owner = itk::ImportImageContainer<itk::SizeValueType, int16_t>::New();
-  auto volume = itk::DRRAttenuationVolume::New();
-  volume->Build(values.data(), size, *transfer, nullptr, owner.GetPointer());
-  auto split = itk::DRRControlVariate::New();
+  const std::vector<int16_t>                values = RandomHU(size, -1300, 1800, 5); // a third of the voxels air
+  const auto                                volume = BuildInPlace(values, size);
+  auto                                      split = itk::DRRControlVariate::New();
   split->Build(*volume, 4, nullptr);
   const std::vector<const itk::DRRAttenuationVolume *> sampledVolumes{ volume.GetPointer(),
                                                                        &split->GetResidualVolume() };

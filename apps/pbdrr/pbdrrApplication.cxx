@@ -495,95 +495,6 @@ RenderView(const Options &                               options,
            const LoadedVolume &                          loaded,
            const TVolume *                               volume,
            const itk::DRRXRaySpectrum *                  spectrum,
-           std::vector<std::pair<std::string, double>> & stages);
-} // namespace
-
-void
-Run(const Options & options)
-{
-  if (IsBatch(options))
-  {
-    RunBatch(options);
-    return;
-  }
-  CheckSingleViewOptions(options);
-  const bool                                  chatty = !options.quiet;
-  std::vector<std::pair<std::string, double>> stages;
-  OutputMode(options); // refuse unknown extensions, and modes they cannot hold, before any work
-  if (chatty)
-  {
-    for (const auto & warning : options.warnings)
-    {
-      std::cerr << "pbdrr: warning: " << warning << std::endl;
-    }
-  }
-  if (!options.standardErrorOutput.empty())
-  {
-    if (OutputKind(options.standardErrorOutput) == "png")
-    {
-      throw UsageError("--stderr needs a float format (.mha, .nrrd, .nii, .tif), not .png");
-    }
-    if (options.exact)
-    {
-      throw UsageError("--stderr: an exact render has no statistical error");
-    }
-    if (options.photons)
-    {
-      throw UsageError("--stderr is the point estimate's error; with --photons the image has quantum noise on top: "
-                       "give one of them");
-    }
-  }
-  struct stat inputStatus;
-  if (!options.seriesUID.empty() && stat(options.input.c_str(), &inputStatus) == 0 && !S_ISDIR(inputStatus.st_mode))
-  {
-    throw UsageError("--series selects a series in a DICOM directory; " + options.input + " is a file");
-  }
-  CheckWritable(options.output);
-  if (!options.standardErrorOutput.empty())
-  {
-    CheckWritable(options.standardErrorOutput);
-  }
-  CheckLabelOptions(options);
-  const itk::DRRXRaySpectrum::Pointer spectrum = MakeSpectrum(options); // a bad spectrum file stops before the load
-  if (options.threads > 0)
-  {
-    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
-  }
-
-  MakeGeometry(options, nullptr); // the view's checks (geometry file, SID against SAD) before the load
-
-  auto               start = Clock::now();
-  ProgressBar        loadProgress(chatty);
-  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, [&](size_t done, size_t total) {
-    loadProgress.ShowCount("reading DICOM files", done, total);
-  });
-  loadProgress.Finish();
-  stages.emplace_back("load", SecondsSince(start));
-  for (const auto & note : loaded.Notes)
-  {
-    if (chatty)
-    {
-      std::cerr << "pbdrr: " << note << std::endl;
-    }
-  }
-  if (loaded.HU)
-  {
-    RenderView(options, loaded, loaded.HU.GetPointer(), spectrum, stages);
-  }
-  else
-  {
-    RenderView(options, loaded, loaded.Image.GetPointer(), spectrum, stages);
-  }
-}
-
-namespace
-{
-template <typename TVolume>
-void
-RenderView(const Options &                               options,
-           const LoadedVolume &                          loaded,
-           const TVolume *                               volume,
-           const itk::DRRXRaySpectrum *                  spectrum,
            std::vector<std::pair<std::string, double>> & stages)
 {
   const bool               chatty = !options.quiet;
@@ -690,4 +601,83 @@ RenderView(const Options &                               options,
   }
 }
 } // namespace
+
+void
+Run(const Options & options)
+{
+  if (IsBatch(options))
+  {
+    RunBatch(options);
+    return;
+  }
+  CheckSingleViewOptions(options);
+  const bool                                  chatty = !options.quiet;
+  std::vector<std::pair<std::string, double>> stages;
+  OutputMode(options); // refuse unknown extensions, and modes they cannot hold, before any work
+  if (chatty)
+  {
+    for (const auto & warning : options.warnings)
+    {
+      std::cerr << "pbdrr: warning: " << warning << std::endl;
+    }
+  }
+  if (!options.standardErrorOutput.empty())
+  {
+    if (OutputKind(options.standardErrorOutput) == "png")
+    {
+      throw UsageError("--stderr needs a float format (.mha, .nrrd, .nii, .tif), not .png");
+    }
+    if (options.exact)
+    {
+      throw UsageError("--stderr: an exact render has no statistical error");
+    }
+    if (options.photons)
+    {
+      throw UsageError("--stderr is the point estimate's error; with --photons the image has quantum noise on top: "
+                       "give one of them");
+    }
+  }
+  struct stat inputStatus;
+  if (!options.seriesUID.empty() && stat(options.input.c_str(), &inputStatus) == 0 && !S_ISDIR(inputStatus.st_mode))
+  {
+    throw UsageError("--series selects a series in a DICOM directory; " + options.input + " is a file");
+  }
+  CheckWritable(options.output);
+  if (!options.standardErrorOutput.empty())
+  {
+    CheckWritable(options.standardErrorOutput);
+  }
+  CheckLabelOptions(options);
+  const itk::DRRXRaySpectrum::Pointer spectrum = MakeSpectrum(options); // a bad spectrum file stops before the load
+  if (options.threads > 0)
+  {
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
+  }
+
+  MakeGeometry(options, nullptr); // the view's checks (geometry file, SID against SAD) before the load
+
+  auto               start = Clock::now();
+  ProgressBar        loadProgress(chatty);
+  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, [&](size_t done, size_t total) {
+    loadProgress.ShowCount("reading DICOM files", done, total);
+  });
+  loadProgress.Finish();
+  stages.emplace_back("load", SecondsSince(start));
+  for (const auto & note : loaded.Notes)
+  {
+    if (chatty)
+    {
+      std::cerr << "pbdrr: " << note << std::endl;
+    }
+  }
+  if (loaded.HU)
+  {
+    RenderView(options, loaded, loaded.HU.GetPointer(), spectrum, stages);
+  }
+  else
+  {
+    RenderView(options, loaded, loaded.Image.GetPointer(), spectrum, stages);
+  }
+}
+
 } // namespace pbdrr
