@@ -91,8 +91,8 @@ public:
   itkTypeMacro(DRRAttenuationVolume, Object);
 
   /** Builds the volume from input values (size[0] x size[1] x size[2], x fastest) through a transfer function, on
-   * the threads of threader (null: platform threads of its own). Integer values spanning less than 65536 (in volumes of
-   * fewer than 2^32 - 128 voxels) give levels, anything else mu per voxel. Throws, naming the first offending voxel in
+   * the threads of threader (null: platform threads of its own). Integer values spanning less than 65536 give keys and
+   * levels, anything else mu per voxel. Throws, naming the first offending voxel in
    * memory order, for a non-finite value or a negative or non-finite attenuation. 16-bit integer values are read in
    * place, not copied, when valueOwner (the image's pixel container) is given: the volume keeps a reference to it, and
    * the values must not change without a new Build(). Defined in itkDRRAttenuationVolume.hxx, for every pixel type. */
@@ -155,12 +155,6 @@ public:
     operator()(uint64_t v) const
     {
       return m_Keys ? m_Table[static_cast<uint16_t>(m_Keys[v] ^ m_Flip)] : m_Mu[v];
-    }
-    /** True if mu comes from the keys (no float per voxel was made). */
-    bool
-    ReadsKeys() const
-    {
-      return m_Keys != nullptr;
     }
 
   private:

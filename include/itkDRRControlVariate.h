@@ -127,7 +127,7 @@ public:
   static unsigned int
   ChooseFactor(const DRRAttenuationVolume & volume, const DRRPointProjection & projection);
 
-  /** Bytes held by the split's tables (coarse volume, signs, and |r| if a consumer materialized it). */
+  /** Bytes held by the split's tables (the coarse volume, and |r| if a consumer materialized it). */
   size_t
   GetTableSizeInBytes() const;
 
@@ -140,8 +140,6 @@ protected:
 private:
   void
   BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
-  void
-  BuildResidualVolume(const DRRAttenuationVolume & volume);
 
   unsigned int                  m_Factor{ 0 };
   double                        m_TotalMass{ 0.0 };

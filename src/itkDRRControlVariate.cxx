@@ -45,7 +45,8 @@ DRRControlVariate::Build(const DRRAttenuationVolume & volume, unsigned int facto
   m_Factor = factor;
   m_TotalMass = volume.ComputeTotalMass();
   this->BuildCoarseVolume(volume, threader);
-  this->BuildResidualVolume(volume);
+  // No pass: |r| and its sign are computed where they are read (the sampler's walk, the renderer's points).
+  m_ResidualVolume->BuildResidual(volume, *m_CoarseVolume, m_Factor);
   this->Modified();
 }
 
@@ -111,13 +112,6 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
     }
   }
   m_CoarseVolume->SetIndexToPhysical(matrix, origin);
-}
-
-void
-DRRControlVariate::BuildResidualVolume(const DRRAttenuationVolume & volume)
-{
-  // No pass: |r| and its sign are computed where they are read (the sampler's walk, the renderer's points).
-  m_ResidualVolume->BuildResidual(volume, *m_CoarseVolume, m_Factor);
 }
 
 double

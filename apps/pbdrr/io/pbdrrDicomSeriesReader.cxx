@@ -35,8 +35,46 @@ namespace pbdrr
 {
 namespace
 {
-/** The slices of a series, one per file, from their DICOM headers. */
-std::vector<Slice>
+/** What one scan of a series' headers gives: its slices, and whether its values fit an int16. */
+struct ScannedSeries
+{
+  std::vector<Slice> Slices;     // one per file
+  bool               HoldsInt16; // see FileHoldsInt16()
+};
+
+/** True if a file's pixel values, as GDCM gives them (stored value x slope + intercept), are integers an int16 holds,
+ * read from its header alone: Bits Stored, Pixel Representation, Samples per Pixel, Rescale Slope and Intercept. */
+bool
+FileHoldsInt16(const gdcm::Scanner & scanner, const std::string & file)
+{
+  const auto number = [&](uint16_t element, double fallback, bool & present) {
+    std::vector<double> value;
+    present = ParseNumbers(scanner.GetValue(file.c_str(), gdcm::Tag(0x0028, element)), 1, value);
+    return present ? value[0] : fallback;
+  };
+  bool         present = false;
+  const double bitsStored = number(0x0101, 0.0, present);
+  if (!present || bitsStored < 1.0 || bitsStored > 16.0)
+  {
+    return false;
+  }
+  const double representation = number(0x0103, 0.0, present);
+  const double samples = number(0x0002, 1.0, present);
+  const double slope = number(0x1053, 1.0, present);
+  const double intercept = number(0x1052, 0.0, present);
+  if (samples != 1.0 || slope != 1.0 || intercept != std::floor(intercept))
+  {
+    return false;
+  }
+  const double levels = std::ldexp(1.0, static_cast<int>(bitsStored));
+  const double lowest = (representation == 1.0 ? -levels / 2.0 : 0.0) + intercept;
+  const double highest = (representation == 1.0 ? levels / 2.0 - 1.0 : levels - 1.0) + intercept;
+  return lowest >= -32768.0 && highest <= 32767.0;
+}
+
+/** The slices of a series, one per file, and whether every file's values fit an int16, from one scan of their DICOM
+ * headers. */
+ScannedSeries
 ScanSeries(const std::vector<std::string> & files)
 {
   const gdcm::Tag positionTag(0x0020, 0x0032);
@@ -44,15 +82,19 @@ ScanSeries(const std::vector<std::string> & files)
   const gdcm::Tag rowsTag(0x0028, 0x0010);
   const gdcm::Tag columnsTag(0x0028, 0x0011);
   gdcm::Scanner   scanner;
-  scanner.AddTag(positionTag);
-  scanner.AddTag(orientationTag);
-  scanner.AddTag(rowsTag);
-  scanner.AddTag(columnsTag);
+  for (const gdcm::Tag & tag : { positionTag, orientationTag, rowsTag, columnsTag })
+  {
+    scanner.AddTag(tag);
+  }
+  for (const uint16_t element : { 0x0101, 0x0103, 0x0002, 0x1053, 0x1052 }) // FileHoldsInt16()'s
+  {
+    scanner.AddTag(gdcm::Tag(0x0028, element));
+  }
   if (!scanner.Scan(files))
   {
     Fail("cannot scan the DICOM files of the series");
   }
-  std::vector<Slice> slices;
+  ScannedSeries series{ {}, true };
   for (const std::string & file : files)
   {
     Slice               slice;
@@ -67,59 +109,10 @@ ScanSeries(const std::vector<std::string> & files)
     slice.Name = file;
     slice.Position = { position[0], position[1], position[2] };
     slice.Size = std::string(rows ? rows : "") + " x " + (columns ? columns : "");
-    slices.push_back(slice);
+    series.Slices.push_back(slice);
+    series.HoldsInt16 = series.HoldsInt16 && FileHoldsInt16(scanner, file);
   }
-  return slices;
-}
-/** True if every file's pixel values, as GDCM gives them (stored value x slope + intercept), are integers an int16
- * holds, read from the headers alone: Bits Stored, Pixel Representation, Rescale Slope and Intercept. */
-bool
-SeriesHoldsInt16(const std::vector<std::string> & files)
-{
-  const gdcm::Tag bitsStoredTag(0x0028, 0x0101);
-  const gdcm::Tag representationTag(0x0028, 0x0103);
-  const gdcm::Tag interceptTag(0x0028, 0x1052);
-  const gdcm::Tag slopeTag(0x0028, 0x1053);
-  const gdcm::Tag samplesTag(0x0028, 0x0002);
-  gdcm::Scanner   scanner;
-  for (const gdcm::Tag & tag : { bitsStoredTag, representationTag, interceptTag, slopeTag, samplesTag })
-  {
-    scanner.AddTag(tag);
-  }
-  if (!scanner.Scan(files))
-  {
-    return false;
-  }
-  const auto number = [&](const std::string & file, const gdcm::Tag & tag, double fallback, bool & present) {
-    std::vector<double> value;
-    present = ParseNumbers(scanner.GetValue(file.c_str(), tag), 1, value);
-    return present ? value[0] : fallback;
-  };
-  for (const std::string & file : files)
-  {
-    bool         present = false;
-    const double bitsStored = number(file, bitsStoredTag, 0.0, present);
-    if (!present || bitsStored < 1.0 || bitsStored > 16.0)
-    {
-      return false;
-    }
-    const double representation = number(file, representationTag, 0.0, present);
-    const double samples = number(file, samplesTag, 1.0, present);
-    const double slope = number(file, slopeTag, 1.0, present);
-    const double intercept = number(file, interceptTag, 0.0, present);
-    if (samples != 1.0 || slope != 1.0 || intercept != std::floor(intercept))
-    {
-      return false;
-    }
-    const double levels = std::ldexp(1.0, static_cast<int>(bitsStored));
-    const double lowest = (representation == 1.0 ? -levels / 2.0 : 0.0) + intercept;
-    const double highest = (representation == 1.0 ? levels / 2.0 - 1.0 : levels - 1.0) + intercept;
-    if (lowest < -32768.0 || highest > 32767.0)
-    {
-      return false;
-    }
-  }
-  return true;
+  return series;
 }
 
 /** The slices read one file after the other by itk::ImageSeriesReader: for the files ReadDicomSlices leaves to it. */
@@ -186,9 +179,12 @@ ReadDicomSeries(const std::vector<std::string> & files,
 {
   GdcmWarningCapture warnings;
   SliceStack         stack;
+  bool               holdsInt16 = false;
   try
   {
-    stack = CheckSliceStack(ScanSeries(files), "the series", true);
+    const ScannedSeries series = ScanSeries(files);
+    holdsInt16 = series.HoldsInt16;
+    stack = CheckSliceStack(series.Slices, "the series", true);
   }
   catch (const std::runtime_error & e)
   {
@@ -198,7 +194,7 @@ ReadDicomSeries(const std::vector<std::string> & files,
                                           " file(s) that are not DICOM: " + JoinNames(notDicom) + ")"));
   }
   // CT as stored (2 bytes per voxel) when every slice's values fit an int16, as they do on nearly every scanner.
-  if (SeriesHoldsInt16(files))
+  if (holdsInt16)
   {
     loaded.HU = ReadSlices<HUVolumeType>(files, stack, progress);
   }
