@@ -145,6 +145,12 @@ public:
   void
   FillMuBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni, uint64_t nj, uint64_t nk, float * out) const;
 
+  /** Asks the memory for the voxels of a box (as FillMuBox() takes it) ahead of reading them: a hint, which changes no
+   * result. A sampler's walk reads one small box after another from all over the volume: each a wait for memory,
+   * unless asked for while the last box is worked on. */
+  void
+  PrefetchBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni, uint64_t nj, uint64_t nk) const;
+
   /** Reads mu (1/mm) by linear voxel index (x fastest) in the hot loops of the exact projectors: a key lookup for a
    * volume of keys, else mu per voxel. Copyable, valid while the volume is unchanged. */
   class MuReader
@@ -198,8 +204,10 @@ public:
                                ? static_cast<double>(m_ResidualFineReader(i + fine[0] * (j + fine[1] * k)))
                                : 0.0;
     const SizeType & coarse = m_ResidualCoarse->GetSize();
-    const uint64_t   F = m_ResidualFactor;
-    return value - static_cast<double>(m_ResidualCoarseMu[i / F + coarse[0] * (j / F + coarse[1] * (k / F))]) < 0.0;
+    return value - static_cast<double>(
+                     m_ResidualCoarseMu[this->CoarseIndex(i) +
+                                        coarse[0] * (this->CoarseIndex(j) + coarse[1] * this->CoarseIndex(k))]) <
+           0.0;
   }
 
   /** True for a residual volume (BuildResidual()). */
@@ -436,6 +444,14 @@ private:
   /** Sorts the voxels by level from the keys, once. */
   const uint32_t *
   MaterializeLevelVoxels() const;
+  /** The coarse index (fine index / factor) of a residual volume: a shift for the usual factors, which the sampler's
+   * walk and the renderer's signs ask for per row and per point, where a division would cost more than the rest. */
+  uint64_t
+  CoarseIndex(uint64_t fine) const
+  {
+    return m_ResidualShift < 64 ? fine >> m_ResidualShift : fine / m_ResidualFactor;
+  }
+
   /** FillMuRow() of a volume without keys: from mu per voxel (materialized if needed) or the residual. */
   void
   FillMuRowSlow(uint64_t first, uint64_t i, uint64_t j, uint64_t k, uint64_t count, float * out) const;
@@ -470,6 +486,7 @@ private:
   ConstPointer              m_ResidualFine;
   ConstPointer              m_ResidualCoarse;
   uint64_t                  m_ResidualFactor{ 0 };
+  unsigned int              m_ResidualShift{ 64 }; // log2 of the factor if a power of two, else 64
   MuReader                  m_ResidualFineReader;
   const float *             m_ResidualCoarseMu{ nullptr };
   mutable double            m_ResidualMuSum{ 0.0 };

@@ -172,6 +172,9 @@ private:
   /** mu (1/mm) of the 64 voxels of group `group` (0 .. 7) of a brick, in Morton order, 0 outside the volume. */
   void
   FillGroupMu(const Brick & brick, uint64_t group, float * mu) const;
+  /** Asks the memory for the voxels of a group (FillGroupMu()'s box) ahead of the walk. */
+  void
+  PrefetchGroup(const Brick & brick, uint64_t group) const;
 
   /** The mu of a group of a brick (index in m_Bricks), from the cursor's cache or read into it. */
   const float *

@@ -27,6 +27,77 @@
 
 namespace itk
 {
+namespace
+{
+/** out[x] = |out[x] - coarseRow[(first + x) / factor]| for the count fine voxels first .. first + count - 1 of a row,
+ * computed in double, given first's coarse column (first / factor) and its place in it (first % factor). Whole blocks
+ * of the usual factors (2, 4, 8) in loops of fixed length, which the compiler vectorizes; else a column counter (no
+ * division per voxel). */
+template <uint64_t TFactor>
+void
+SubtractWholeBlocks(const float * coarse, uint64_t blocks, float * out)
+{
+  for (uint64_t q = 0; q < blocks; ++q)
+  {
+    const double c = coarse[q];
+    for (uint64_t t = 0; t < TFactor; ++t)
+    {
+      out[TFactor * q + t] = static_cast<float>(std::abs(static_cast<double>(out[TFactor * q + t]) - c));
+    }
+  }
+}
+
+void
+SubtractCoarseRow(const float * coarseRow,
+                  uint64_t      factor,
+                  uint64_t      column,
+                  uint64_t      within,
+                  uint64_t      count,
+                  float *       out)
+{
+  uint64_t   x = 0;
+  const auto subtractOne = [&]() {
+    out[x] = static_cast<float>(std::abs(static_cast<double>(out[x]) - static_cast<double>(coarseRow[column])));
+    ++x;
+    if (++within == factor)
+    {
+      within = 0;
+      ++column;
+    }
+  };
+  while (x < count && within != 0)
+  {
+    subtractOne(); // the head of a block begun before the row's first voxel
+  }
+  const uint64_t blocks = (count - x) / factor;
+  bool           whole = true;
+  switch (factor)
+  {
+    case 2:
+      SubtractWholeBlocks<2>(coarseRow + column, blocks, out + x);
+      break;
+    case 4:
+      SubtractWholeBlocks<4>(coarseRow + column, blocks, out + x);
+      break;
+    case 8:
+      SubtractWholeBlocks<8>(coarseRow + column, blocks, out + x);
+      break;
+    default:
+      whole = false; // the counter below takes every voxel
+      break;
+  }
+  if (whole)
+  {
+    x += blocks * factor;
+    column += blocks;
+  }
+  while (x < count)
+  {
+    subtractOne();
+  }
+}
+} // namespace
+
 DRRAttenuationVolume::DRRAttenuationVolume()
 {
   m_IndexToPhysical.SetIdentity();
@@ -50,6 +121,7 @@ DRRAttenuationVolume::Reset(const SizeType & size)
   m_ResidualFine = nullptr;
   m_ResidualCoarse = nullptr;
   m_ResidualFactor = 0;
+  m_ResidualShift = 64;
   m_ResidualMuSum = 0.0;
   m_ResidualStatisticsReady.store(false, std::memory_order_release);
   m_SmallestPositiveMu = 0.0f;
@@ -394,17 +466,26 @@ DRRAttenuationVolume::FillMuRowSlow(uint64_t first, uint64_t i, uint64_t j, uint
 {
   if (this->IsResidual())
   {
-    // In runs of at most 64 voxels on the stack: the samplers read a few voxels at a time.
-    double residual[64];
-    for (uint64_t x = 0; x < count; x += 64)
+    // The fine row (air in the padding), then |mu - mu_c| in place, in double as FillResidualRow() computes r.
+    const DRRAttenuationVolume & fine = *m_ResidualFine;
+    const SizeType &             fineSize = fine.GetSize();
+    const SizeType &             coarseSize = m_ResidualCoarse->GetSize();
+    const uint64_t               F = m_ResidualFactor;
+    const bool                   rowInside = j < fineSize[1] && k < fineSize[2];
+    const uint64_t               inside = rowInside && i < fineSize[0] ? std::min(count, fineSize[0] - i) : 0;
+    if (inside > 0)
     {
-      const uint64_t n = std::min<uint64_t>(64, count - x);
-      this->FillResidualRow(i + x, j, k, n, residual);
-      for (uint64_t y = 0; y < n; ++y)
-      {
-        out[x + y] = static_cast<float>(std::abs(residual[y]));
-      }
+      fine.FillMuRow(i, j, k, inside, out);
     }
+    std::fill(out + inside, out + count, 0.0f);
+    const uint64_t column = this->CoarseIndex(i);
+    SubtractCoarseRow(m_ResidualCoarseMu +
+                        coarseSize[0] * (this->CoarseIndex(j) + coarseSize[1] * this->CoarseIndex(k)),
+                      F,
+                      column,
+                      i - column * F,
+                      count,
+                      out);
     return;
   }
   const float * mu = this->GetMuBuffer() + first;
@@ -415,64 +496,57 @@ void
 DRRAttenuationVolume::FillMuBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni, uint64_t nj, uint64_t nk, float * out)
   const
 {
-  if (m_Keys || !this->IsResidual())
+  // Row by row, whatever the volume holds (a residual's rows are computed, air in its padding, FillMuRowSlow()).
+  for (uint64_t z = 0; z < nk; ++z)
   {
-    for (uint64_t z = 0; z < nk; ++z)
+    for (uint64_t y = 0; y < nj; ++y)
     {
-      for (uint64_t y = 0; y < nj; ++y)
+      this->FillMuRow(i, j + y, k + z, ni, out + ni * (y + nj * z));
+    }
+  }
+}
+
+void
+DRRAttenuationVolume::PrefetchBox(uint64_t i, uint64_t j, uint64_t k, uint64_t ni, uint64_t nj, uint64_t nk) const
+{
+  if (ni == 0 || nj == 0 || nk == 0)
+  {
+    return;
+  }
+  if (this->IsResidual())
+  {
+    // The fine voxels inside the fine grid, and the coarse means of the box's rows (one coarse row per F rows).
+    const SizeType & fine = m_ResidualFine->GetSize();
+    if (i < fine[0] && j < fine[1] && k < fine[2])
+    {
+      m_ResidualFine->PrefetchBox(
+        i, j, k, std::min(ni, fine[0] - i), std::min(nj, fine[1] - j), std::min(nk, fine[2] - k));
+    }
+    const SizeType & coarse = m_ResidualCoarse->GetSize();
+    for (uint64_t z = this->CoarseIndex(k); z <= this->CoarseIndex(k + nk - 1); ++z)
+    {
+      for (uint64_t y = this->CoarseIndex(j); y <= this->CoarseIndex(j + nj - 1); ++y)
       {
-        this->FillMuRow(i, j + y, k + z, ni, out + ni * (y + nj * z));
+        PointBasedDRR_PREFETCH(m_ResidualCoarseMu + this->CoarseIndex(i) + coarse[0] * (y + coarse[1] * z), 0, 3);
       }
     }
     return;
   }
-  // The residual: the fine volume's box (air in the padding), less the coarse means, as FillResidualRow().
-  const DRRAttenuationVolume & fine = *m_ResidualFine;
-  const SizeType &             fineSize = fine.GetSize();
-  const SizeType &             coarseSize = m_ResidualCoarse->GetSize();
-  const float *                coarseMu = m_ResidualCoarse->GetMuBuffer();
-  const uint64_t               F = m_ResidualFactor;
-  const uint64_t               insideI = i < fineSize[0] ? std::min(ni, fineSize[0] - i) : 0;
-  // The coarse index of every x, y and z of the box, found once by counters (no division per voxel or row).
-  std::vector<uint64_t> heap(ni + nj + nk > 96 ? ni + nj + nk : 0);
-  uint64_t              stack[96];
-  uint64_t *            column = heap.empty() ? stack : heap.data();
-  uint64_t *            coarseJ = column + ni;
-  uint64_t *            coarseK = coarseJ + nj;
-  const auto            coarseIndices = [F](uint64_t first, uint64_t n, uint64_t * index) {
-    uint64_t c = first / F;
-    uint64_t within = first % F;
-    for (uint64_t x = 0; x < n; ++x)
-    {
-      index[x] = c;
-      if (++within == F)
-      {
-        within = 0;
-        ++c;
-      }
-    }
-  };
-  coarseIndices(i, ni, column);
-  coarseIndices(j, nj, coarseJ);
-  coarseIndices(k, nk, coarseK);
+  const char * base = m_Keys                                      ? reinterpret_cast<const char *>(m_Keys)
+                      : m_MuReady.load(std::memory_order_acquire) ? reinterpret_cast<const char *>(m_Mu.get())
+                                                                  : nullptr;
+  if (!base)
+  {
+    return;
+  }
+  const uint64_t bytes = m_Keys ? sizeof(uint16_t) : sizeof(float);
   for (uint64_t z = 0; z < nk; ++z)
   {
-    const uint64_t coarsePlane = coarseSize[1] * coarseK[z];
     for (uint64_t y = 0; y < nj; ++y)
     {
-      float *        row = out + ni * (y + nj * z);
-      const bool     rowInside = j + y < fineSize[1] && k + z < fineSize[2];
-      const uint64_t inside = rowInside ? insideI : 0;
-      if (inside > 0)
-      {
-        fine.FillMuRow(i, j + y, k + z, inside, row);
-      }
-      const float * coarseRow = coarseMu + coarseSize[0] * (coarseJ[y] + coarsePlane);
-      for (uint64_t x = 0; x < ni; ++x)
-      {
-        const double value = x < inside ? static_cast<double>(row[x]) : 0.0;
-        row[x] = static_cast<float>(std::abs(value - static_cast<double>(coarseRow[column[x]])));
-      }
+      const char * row = base + bytes * (i + m_Size[0] * (j + y + m_Size[1] * (k + z)));
+      PointBasedDRR_PREFETCH(row, 0, 3);
+      PointBasedDRR_PREFETCH(row + bytes * (ni - 1), 0, 3); // a row may end on the next cache line
     }
   }
 }
@@ -537,6 +611,11 @@ DRRAttenuationVolume::BuildResidual(const DRRAttenuationVolume & fine,
   m_ResidualFine = &fine;
   m_ResidualCoarse = &coarse;
   m_ResidualFactor = factor;
+  m_ResidualShift = 64;
+  for (unsigned int shift = 0; shift < 63; ++shift)
+  {
+    m_ResidualShift = uint64_t{ factor } == uint64_t{ 1 } << shift ? shift : m_ResidualShift;
+  }
   m_ResidualFineReader = fine.GetMuReader();
   m_ResidualCoarseMu = coarse.GetMuBuffer();
   this->SetIndexToPhysical(fine.GetIndexToPhysicalMatrix(), fine.GetOrigin());

@@ -23,6 +23,53 @@
 
 namespace itk
 {
+namespace
+{
+/** sum[q] += the row's voxels q F .. q F + F - 1 (fewer in a last, partial block), each block's in order. */
+template <uint64_t TFactor>
+void
+AddWholeBlockSums(const float * row, uint64_t blocks, double * sum)
+{
+  for (uint64_t q = 0; q < blocks; ++q)
+  {
+    double s = sum[q];
+    for (uint64_t t = 0; t < TFactor; ++t)
+    {
+      s += row[TFactor * q + t];
+    }
+    sum[q] = s;
+  }
+}
+
+void
+AddBlockSums(const float * row, uint64_t width, uint64_t factor, double * sum)
+{
+  // The usual factors in loops of fixed length; the last block, and other factors, voxel by voxel.
+  uint64_t whole = width / factor;
+  switch (factor)
+  {
+    case 2:
+      AddWholeBlockSums<2>(row, whole, sum);
+      break;
+    case 4:
+      AddWholeBlockSums<4>(row, whole, sum);
+      break;
+    case 8:
+      AddWholeBlockSums<8>(row, whole, sum);
+      break;
+    default:
+      whole = 0;
+      break;
+  }
+  for (uint64_t q = whole; q * factor < width; ++q)
+  {
+    for (uint64_t i = q * factor; i < std::min(width, q * factor + factor); ++i)
+    {
+      sum[q] += row[i];
+    }
+  }
+}
+} // namespace
 
 DRRControlVariate::DRRControlVariate()
   : m_CoarseVolume(DRRAttenuationVolume::New()), m_ResidualVolume(DRRAttenuationVolume::New())
@@ -83,13 +130,7 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
           for (uint64_t j = cj * F; j < std::min(fine[1], cj * F + F); ++j)
           {
             volume.FillMuRow(first, j, k, width, row.data());
-            for (uint64_t q = 0; q < n; ++q)
-            {
-              for (uint64_t i = q * F; i < std::min(width, q * F + F); ++i)
-              {
-                sum[q] += row[i];
-              }
-            }
+            AddBlockSums(row.data(), width, F, sum.data());
           }
         }
         for (uint64_t q = 0; q < n; ++q)

