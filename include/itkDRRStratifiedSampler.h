@@ -26,19 +26,20 @@
 namespace itk
 {
 /** \class DRRStratifiedSampler
- * \brief Systematic sampling of the attenuation mass along a Morton (Z-order) curve: one random offset, then equal
- * mass steps; culled to the view frustum, walked in order.
+ * \brief Systematic sampling of the attenuation mass along a curve of bricks: one random offset, then equal mass
+ * steps; culled to the view frustum, walked in order.
  *
- * The volume is cut into 8 x 8 x 8 bricks; the bricks that hold non-air voxels are laid out in Morton order, and the
- * voxels of a brick in Morton order too. The n points of a stratum sit at the masses (U + i) / n of the mass along
- * that curve, i = 0 .. n - 1, with one uniform offset U per stratum: every voxel receives its expected count
- * N mass_v / M to within one point, so the count noise that dominates i.i.d. sampling is gone, and points spread
- * evenly through space because the curve keeps neighbours together. The estimate stays unbiased (each point is
- * uniform over the mass for a uniform U) and every weight is 1. Points are not independent: the renderer draws 4
- * strata (by default) with independent offsets and estimates the standard error from their spread. Beyond the paper,
- * whose future work named low-discrepancy sampling. Inside the voxel, points are jittered by a hashed sequence
- * (exactly uniform per point, decorrelated between neighbours; a low-discrepancy R2 sequence was tried and aliased on
- * regular structures of the head CT).
+ * The volume is cut into 8 x 8 x 8 bricks; the bricks that hold non-air voxels are laid out plane by plane of bricks
+ * in z, each plane in 2-D Morton (Z-order) order of x and y, and the voxels of a brick in 3-D Morton order. A slab of
+ * whole brick planes is one stretch of the curve, so a render streamed by slabs can draw the same points. The n points
+ * of a stratum sit at the masses (U + i) / n of the mass along that curve, i = 0 .. n - 1, with one uniform offset U
+ * per stratum: every voxel receives its expected count N mass_v / M to within one point, so the count noise that
+ * dominates i.i.d. sampling is gone, and points spread evenly through space because the curve keeps neighbours
+ * together. The estimate stays unbiased (each point is uniform over the mass for a uniform U) and every weight is 1.
+ * Points are not independent: the renderer draws 4 strata (by default) with independent offsets and estimates the
+ * standard error from their spread. Beyond the paper, whose future work named low-discrepancy sampling. Inside the
+ * voxel, points are jittered by a hashed sequence (exactly uniform per point, decorrelated between neighbours; a
+ * low-discrepancy R2 sequence was tried and aliased on regular structures of the head CT).
  *
  * Model only what the view sees: the plan of a view (MakeViewPlan()) keeps the bricks whose points can reach the
  * detector (their corners, widened by the kernel's reach, projected; the convex hull of a box in front of the source is
@@ -189,7 +190,7 @@ private:
   std::shared_ptr<const ViewPlan>
   KeepBricks(TKeep && keep) const;
 
-  std::vector<Brick>                 m_Bricks; // non-empty bricks, Morton order
+  std::vector<Brick>                 m_Bricks; // non-empty bricks, curve order
   DRRAttenuationVolume::ConstPointer m_Volume; // the volume sampled, read group by group
   uint64_t                           m_NumberOfNonAirVoxels{ 0 };
   std::shared_ptr<const ViewPlan>    m_WholeVolumePlan; // every brick (the plan without a view)

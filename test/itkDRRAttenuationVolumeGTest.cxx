@@ -301,6 +301,37 @@ TEST(DRRAttenuationVolume, ResidualRowsEqualTheDefinitionIncludingThePadding)
 // The stratified sampler's brick sums (mass and occupancy of every 8^3 brick) against a direct sum over the brick's
 // voxels, on a volume whose bricks are cut by its end on every axis, plain and as a control variate's residual. A
 // pass that drops a brick's boundary layer, or counts one twice, changes the brick's sum.
+// A slab of whole brick planes must be one stretch of the curve (a streamed render draws the unstreamed points: the
+// shared design, section 11): bricks by plane in z, each plane in 2-D Morton order of x and y (bit i of x at bit 2i).
+TEST(DRRStratifiedSampler, TheCurveTakesBrickPlanesInZEachIn2DMortonOrder)
+{
+  const itk::DRRAttenuationVolume::SizeType size{ { 70, 37, 41 } }; // 9 x 5 x 6 bricks, partial at every far side
+  const std::vector<int16_t>                values = RandomHU(size, -1300, 1800, 7);
+  const auto                                volume = BuildInPlace(values, size);
+  auto                                      sampler = itk::DRRStratifiedSampler::New();
+  sampler->Initialize(*volume);
+  const auto morton2D = [](uint64_t x, uint64_t y) {
+    uint64_t code = 0;
+    for (unsigned int bit = 0; bit < 16; ++bit)
+    {
+      code |= ((x >> bit) & 1u) << (2 * bit) | ((y >> bit) & 1u) << (2 * bit + 1);
+    }
+    return code;
+  };
+  ASSERT_EQ(sampler->GetNumberOfBricks(), 9u * 5u * 6u); // no brick of random HU is all air
+  for (size_t b = 1; b < sampler->GetNumberOfBricks(); ++b)
+  {
+    const auto before = sampler->GetBrickSummary(b - 1);
+    const auto brick = sampler->GetBrickSummary(b);
+    const bool inOrder = before.Origin[2] < brick.Origin[2] ||
+                         (before.Origin[2] == brick.Origin[2] && morton2D(before.Origin[0] / 8, before.Origin[1] / 8) <
+                                                                   morton2D(brick.Origin[0] / 8, brick.Origin[1] / 8));
+    EXPECT_TRUE(inOrder) << "brick " << b << " at voxel " << brick.Origin[0] << ", " << brick.Origin[1] << ", "
+                         << brick.Origin[2] << " follows the brick at " << before.Origin[0] << ", " << before.Origin[1]
+                         << ", " << before.Origin[2];
+  }
+}
+
 TEST(DRRStratifiedSampler, BrickSumsEqualADirectSumOverEveryBrick)
 {
   const itk::DRRAttenuationVolume::SizeType size{ { 45, 30, 19 } };
