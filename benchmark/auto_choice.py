@@ -85,6 +85,8 @@ class Case:
             self.seeds = [int(s) for s in env("BATCH_SEEDS", "1").split()]
         else:
             raise SystemExit("unknown case " + name)
+        # the most points of any run: a setting that needs more is timed at NMAX (its time a lower bound)
+        self.nmax = int(float(env("NMAX", "") or (self.n0 * (10 if self.batch else 100))))
         if not self.input or not os.path.exists(self.input):
             raise SystemExit("auto_choice.py: %s: no input (%r)" % (name, self.input))
 
@@ -198,7 +200,7 @@ class Case:
     def equal_error(self, setting, target2):
         """NRMSE^2 at N0, then at the N the measurements so far predict (until one is within 20% of it; at most
         four N), and the N at equal error."""
-        lo, hi = self.n0 / 30, self.n0 * 100
+        lo, hi = self.n0 / 30, self.nmax
         clamp = lambda n: int(round(min(max(n, lo), hi), -4))
         pts = [self.measure(setting, self.n0)]
         nstar = clamp(self.n0 * pts[0]["nrmse2"] / target2)
@@ -231,8 +233,9 @@ class Case:
             log(self.name, s, "N at equal error %.4g" % res["settings"][s]["N"])
         res["settings"]["auto"] = {"points": [target], "a": None, "b": None, "N": float(self.n0)}
         # timed rounds
-        nrun = {s: (self.n0 if s == "auto" else int(round(res["settings"][s]["N"], -4))) for s in SETTINGS
-                if math.isfinite(res["settings"][s]["N"])}
+        nrun = {s: (self.n0 if s == "auto" else int(round(min(res["settings"][s]["N"], self.nmax), -4)))
+                for s in SETTINGS}
+        res["nmax"] = self.nmax
         times = {s: [] for s in nrun}
         for r in range(runs):
             for s in nrun:
@@ -279,7 +282,8 @@ def section(res):
                "CPU s median (user+sys) | peak RSS MiB | stage times (median round) | wall / auto |")
     out.append("|---|---:|---:|---:|---:|---|---:|---:|---:|---|---:|")
     walls = {s: med([t["wall"] for t in res["times"][s]]) for s in res["times"]}
-    fastest = min((s for s in walls if s != "auto"), key=walls.get)  # the fastest fixed setting
+    fastest = min((s for s in walls if s != "auto" and res["settings"][s]["N"] <= res.get("nmax", float("inf"))),
+                  key=walls.get)  # the fastest fixed setting (of those timed at their N)
     for s in SETTINGS:
         st = res["settings"][s]
         pts = st["points"]
@@ -295,10 +299,13 @@ def section(res):
         mid = sorted(t, key=lambda x: x["wall"])[len(t) // 2]
         fitted = res["target_nrmse"]
         bold = "**" if s == fastest else ""
-        out.append("| %s%s%s | %s | %s | %s | %.5f; %.5f | %s | %s%.2f%s | %.2f | %.0f | %s | %.2f |" % (
-            bold, s, bold, f or "-", "%.4f" % mrm if mrm else "-", fmt_n(res["N_run"][s]), fitted,
+        capped = not st["N"] <= res.get("nmax", float("inf")) * 1.0001
+        ge = ">= " if capped else ""
+        out.append("| %s%s%s | %s | %s | %s | %.5f; %.5f | %s | %s%s%s | %.2f | %.0f | %s | %.2f |" % (
+            bold, s, bold, f or "-", "%.4f" % mrm if mrm else "-",
+            fmt_n(st["N"]) + (" (timed at %s)" % fmt_n(res["N_run"][s]) if capped else ""), fitted,
             st.get("timed_nrmse") or 0, measured(pts),
-            bold, walls[s], bold, cpu, rss, mid["stages"], walls[s] / walls["auto"]))
+            bold, ge + "%.2f" % walls[s], bold, cpu, rss, mid["stages"], walls[s] / walls["auto"]))
     out.append("")
     ratio = walls["auto"] / walls[fastest]
     cpu_ratio = med([x["user"] + x["sys"] for x in res["times"]["auto"]]) / \
@@ -326,8 +333,42 @@ def measured(pts):
     return ", ".join("%.5f (%s)" % (math.sqrt(p["nrmse2"]), fmt_n(p["N"])) for p in sorted(pts, key=lambda p: p["N"]))
 
 
+def stage_fit(out, case):
+    """least squares over the error runs' -v stage times of a case: the points' stage (sample+project of a single
+    view; the ms per view after the first of a batch) = R_F + t_pt * N, one t_pt for every setting, R_F per setting."""
+    d = os.path.join(out, case)
+    rows = []
+    for f in sorted(os.listdir(d)):
+        m = re.match(r"e_(\w+?)_(\d+)_s\d+\.err$", f)
+        if not m or m.group(1) == "auto":
+            continue
+        text = open(os.path.join(d, f)).read()
+        if case == "batch":
+            t = re.search(r"more views [0-9.]+ s, ([0-9.]+) ms each", text)
+            y = float(t.group(1)) / 1000 if t else None
+        else:
+            y = Case.parse(text).get("stage", {}).get("sample+project")
+        if y is not None:
+            rows.append((m.group(1), int(m.group(2)), y))
+    names = [s for s in SETTINGS[1:] if any(r[0] == s for r in rows)]
+    A = np.array([[r[1] / 1e6] + [1.0 if r[0] == s else 0.0 for s in names] for r in rows])
+    y = np.array([r[2] for r in rows])
+    x = np.linalg.lstsq(A, y, rcond=None)[0]
+    return {"t_pt_ns": x[0] * 1e3, "R": dict(zip(names, x[1:])), "runs": len(rows)}
+
+
 def main():
     case, out = sys.argv[1], sys.argv[2]
+    if case == "model":  # the cost model's constants from the error runs' stage times
+        for c in ["chest", "head", "x2", "batch"]:
+            if os.path.exists(os.path.join(out, c, "result.json")) or c == "batch":
+                try:
+                    r = stage_fit(out, c)
+                except (OSError, ValueError, np.linalg.LinAlgError):
+                    continue
+                print("%s: t_pt %.2f ns per point (wall), R_F (s): %s (%d runs)" % (
+                    c, r["t_pt_ns"], ", ".join("%s %.3f" % kv for kv in r["R"].items()), r["runs"]))
+        return
     if case == "report":  # re-print the sections of the finished cases
         for c in ["chest", "head", "x2", "batch"]:
             p = os.path.join(out, c, "result.json")

@@ -224,7 +224,9 @@ public:
 
   /** Makes every voxel v with keep[v] == 0 air (x fastest, one entry per voxel): mu 0, in no level, never sampled.
    * The labels a render leaves out (DRRImageFilterBase::SetKeptLabels()). Levels keep their order and mu; levels left
-   * empty are removed. */
+   * empty are removed. A volume of keys stays one, the masked voxels set to an air key of its range (a copy of the
+   * keys, 2 bytes per voxel); one whose every key in range attenuates keeps its level lists, compacted, and mu per
+   * voxel. */
   void
   ApplyVoxelMask(const uint8_t * keep, MultiThreaderBase * threader);
 
@@ -451,6 +453,11 @@ private:
   {
     return m_ResidualShift < 64 ? fine >> m_ResidualShift : fine / m_ResidualFactor;
   }
+
+  /** ApplyVoxelMask() on the keys: a copy of them with the masked voxels set to an air key of the volume's range, and
+   * the levels recounted. False (nothing changed) without keys, or without an air key in the range. */
+  bool
+  MaskKeys(const uint8_t * keep, MultiThreaderBase * threader);
 
   /** FillMuRow() of a volume without keys: from mu per voxel (materialized if needed) or the residual. */
   void

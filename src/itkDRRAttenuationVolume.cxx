@@ -140,6 +140,11 @@ DRRAttenuationVolume::ApplyVoxelMask(const uint8_t * keep, MultiThreaderBase * t
   {
     itkExceptionMacro("a residual volume cannot be masked: mask the volume it is the residual of");
   }
+  if (this->MaskKeys(keep, threader))
+  {
+    this->Modified();
+    return;
+  }
   if (this->HasLevels())
   {
     // Each level's list, compacted in place: its voxels stay in increasing order; empty levels are dropped. The keys
@@ -194,6 +199,77 @@ DRRAttenuationVolume::ApplyVoxelMask(const uint8_t * keep, MultiThreaderBase * t
   m_SmallestPositiveMu = largest > 0.0f ? smallest : 0.0f;
   m_LargestMu = largest;
   this->Modified();
+}
+
+bool
+DRRAttenuationVolume::MaskKeys(const uint8_t * keep, MultiThreaderBase * threader)
+{
+  // An air key of the volume's key range (a level-less key: mu 0, and counted by the level lists' blocks).
+  const uint32_t none = std::numeric_limits<uint32_t>::max();
+  const auto     air = std::find(m_LevelOfKey.begin(), m_LevelOfKey.end(), none);
+  if (!m_Keys || !this->HasLevels() || air == m_LevelOfKey.end())
+  {
+    return false; // a volume of tissue at every key of its range: the levels are compacted instead
+  }
+  const uint16_t airKey = static_cast<uint16_t>(m_LowestKey + static_cast<uint32_t>(air - m_LevelOfKey.begin()));
+  // The keys copied, the masked voxels set to air: 2 bytes per voxel, where the levels and mu per voxel cost 4 each.
+  std::unique_ptr<uint16_t[]> masked(new uint16_t[this->GetNumberOfVoxels()]);
+  const uint16_t *            keys = m_Keys;
+  const uint16_t              flip = m_KeyFlip;
+  ParallelizeBlocks(
+    this->GetNumberOfBlocks(),
+    [&](uint64_t b) {
+      const uint64_t end = this->GetBlockBegin(b + 1);
+      for (uint64_t v = this->GetBlockBegin(b); v < end; ++v)
+      {
+        masked[v] = keep[v] != 0 ? static_cast<uint16_t>(keys[v] ^ flip) : airKey;
+      }
+    },
+    threader);
+  KeyCounts counts;
+  this->CountIntegerKeys(masked.get(), 0.0, counts, threader);
+
+  // The levels left: those with a voxel kept, in the same order (as the compaction of the level lists gives them).
+  std::vector<uint64_t> total(m_LevelOfKey.size(), 0);
+  for (size_t b = 0; b < counts.Lowest.size(); ++b)
+  {
+    for (size_t k = 0; k < counts.Counts[b].size(); ++k)
+    {
+      total[counts.Lowest[b] - m_LowestKey + k] += counts.Counts[b][k];
+    }
+  }
+  std::vector<float>    levelMu;
+  std::vector<uint64_t> levelStart{ 0 };
+  for (size_t k = 0; k < m_LevelOfKey.size(); ++k)
+  {
+    if (m_LevelOfKey[k] == none)
+    {
+      continue;
+    }
+    if (total[k] == 0)
+    {
+      m_LevelOfKey[k] = none;
+      m_KeyMu[m_LowestKey + k] = 0.0f;
+      continue;
+    }
+    m_LevelOfKey[k] = static_cast<uint32_t>(levelMu.size());
+    levelMu.push_back(m_KeyMu[m_LowestKey + k]);
+    levelStart.push_back(levelStart.back() + total[k]);
+  }
+  m_LevelMu = std::move(levelMu);
+  m_LevelStart = std::move(levelStart);
+  m_KeyCounts = std::move(counts);
+  m_LevelVoxels.reset();
+  m_LevelVoxelsReady.store(false, std::memory_order_release);
+  m_Mu.reset();
+  m_MuReady.store(false, std::memory_order_release);
+  m_OwnKeys = std::move(masked);
+  m_Keys = m_OwnKeys.get();
+  m_KeyFlip = 0;
+  m_KeyOwner = nullptr;
+  m_LargestMu = m_LevelMu.empty() ? 0.0f : *std::max_element(m_LevelMu.begin(), m_LevelMu.end());
+  m_SmallestPositiveMu = m_LevelMu.empty() ? 0.0f : *std::min_element(m_LevelMu.begin(), m_LevelMu.end());
+  return true;
 }
 
 void

@@ -301,6 +301,80 @@ TEST(DRRAttenuationVolume, ResidualRowsEqualTheDefinitionIncludingThePadding)
 // The stratified sampler's brick sums (mass and occupancy of every 8^3 brick) against a direct sum over the brick's
 // voxels, on a volume whose bricks are cut by its end on every axis, plain and as a control variate's residual. A
 // pass that drops a brick's boundary layer, or counts one twice, changes the brick's sum.
+// A mask (the labels a render leaves out) makes voxels air: mu 0, in no level; the levels left keep their order and
+// list their kept voxels. A volume of keys stays one (the masked voxels set to an air key: 2 bytes per voxel, no mu
+// per voxel); a volume with no air key in its range takes the compaction of its level lists. Both against a direct
+// computation from the unmasked volume.
+TEST(DRRAttenuationVolume, AMaskMakesVoxelsAirAndKeepsTheKeysWhereTheRangeHasAnAirKey)
+{
+  const itk::DRRAttenuationVolume::SizeType size{ { 37, 21, 13 } };
+  for (const int lowest : { -1300, 0 }) // air keys in range; every key of the range tissue (each present)
+  {
+    const std::vector<int16_t> values = RandomHU(size, lowest, lowest < 0 ? 1000 : 300, 11);
+    const auto                 whole = BuildInPlace(values, size);
+    const auto                 masked = BuildInPlace(values, size);
+    std::vector<uint8_t>       keep(values.size());
+    std::mt19937               random(12);
+    for (auto & k : keep)
+    {
+      k = static_cast<uint8_t>(random() % 3 != 0); // a third masked
+    }
+    masked->ApplyVoxelMask(keep.data(), nullptr);
+    const std::string context = "HU from " + std::to_string(lowest);
+    if (lowest < -1000)
+    {
+      EXPECT_NEAR(masked->GetBytesPerVoxel(), 2.0, 65536.0 * 4.0 / static_cast<double>(values.size()) + 1e-9)
+        << context << ": the keys copied, nothing else per voxel";
+    }
+    const std::vector<float> wholeMu = ReadByRows(*whole);
+    const std::vector<float> maskedMu = ReadByRows(*masked);
+    for (size_t v = 0; v < values.size(); ++v)
+    {
+      ASSERT_EQ(maskedMu[v], keep[v] ? wholeMu[v] : 0.0f) << context << ", voxel " << v;
+    }
+    // The levels: the unmasked volume's, each listing its kept voxels, the empty ones gone.
+    std::vector<float>    levelMu;
+    std::vector<uint64_t> levelStart{ 0 };
+    std::vector<uint32_t> listed;
+    for (size_t l = 0; l < whole->GetNumberOfLevels(); ++l)
+    {
+      for (uint64_t e = whole->GetLevelStart(l); e < whole->GetLevelStart(l + 1); ++e)
+      {
+        const uint32_t v = whole->GetLevelVoxels()[e];
+        if (keep[v])
+        {
+          listed.push_back(v);
+        }
+      }
+      if (listed.size() > levelStart.back())
+      {
+        levelMu.push_back(whole->GetLevelMu(l));
+        levelStart.push_back(listed.size());
+      }
+    }
+    ASSERT_EQ(masked->GetNumberOfLevels(), levelMu.size()) << context;
+    for (size_t l = 0; l < levelMu.size(); ++l)
+    {
+      EXPECT_EQ(masked->GetLevelMu(l), levelMu[l]) << context << ", level " << l;
+      EXPECT_EQ(masked->GetLevelStart(l + 1), levelStart[l + 1]) << context << ", level " << l;
+    }
+    const uint32_t * maskedListed = masked->GetLevelVoxels();
+    EXPECT_TRUE(std::equal(listed.begin(), listed.end(), maskedListed)) << context;
+    EXPECT_EQ(
+      masked->ComputeTotalMass(),
+      masked->GetVoxelVolume() *
+        [&]() {
+          double sum = 0.0;
+          for (size_t l = 0; l < levelMu.size(); ++l)
+          {
+            sum += static_cast<double>(levelStart[l + 1] - levelStart[l]) * static_cast<double>(levelMu[l]);
+          }
+          return sum;
+        }())
+      << context;
+  }
+}
+
 // A slab of whole brick planes must be one stretch of the curve (a streamed render draws the unstreamed points: the
 // shared design, section 11): bricks by plane in z, each plane in 2-D Morton order of x and y (bit i of x at bit 2i).
 TEST(DRRStratifiedSampler, TheCurveTakesBrickPlanesInZEachIn2DMortonOrder)
