@@ -690,10 +690,11 @@ Physics:
                          the channels add up to OUTPUT (rendered without a control variate)
 
 Batches: many views in one run, the volume loaded once and the points drawn once for every view; view k's image
-depends only on (--seed, k), whichever run, shard or thread count renders it. The sampling options are a single
-view's; for speed, --control-variate 16 --samples 2M renders a 256 x 256 chest view in 26 ms at NRMSE < 2%
+depends only on (--seed, k), whichever run, shard or thread count renders it, and view 0 is the single view of the
+same options (--geometry, then the flags, then the view's own fields). The sampling options are a single view's;
+for speed, --control-variate 16 --samples 2M renders a 256 x 256 chest view in 26 ms at NRMSE < 2%
 (--control-variate 8: 33 ms, < 1.4%; docs/benchmark/batch_chest_360.md):
-  --angles N             a gantry sweep of N views from --gantry (plastimatch's -a)
+  --angles N             a gantry sweep of N views from --gantry or the --geometry file's (plastimatch's -a)
   --angle-step DEG       degrees between the sweep's views (default 360 / N; plastimatch's -N)
   --views FILE           one view per line, CSV with a header naming the columns: gantry | nrm_x nrm_y nrm_z,
                          vup_x vup_y vup_z, iso_x iso_y iso_z, sad, sid, offset_u offset_v, the CT's pose tx ty tz

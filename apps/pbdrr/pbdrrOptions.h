@@ -103,7 +103,7 @@ struct Options
   unsigned                                                     raysPerSide{ 1 };
 
   /** Batches (pbdrrBatch.h): many views of one volume in one run; view k depends only on (seed, k). */
-  std::optional<unsigned> angles;               // --angles N: a gantry sweep of N views from --gantry (default 0)
+  std::optional<unsigned> angles; // --angles N: a sweep of N views from the view's gantry (SweepStartDegrees())
   std::optional<double>   angleStepDegrees;     // --angle-step DEG: degrees between the sweep's views (default 360 / N)
   std::string             viewsFile;            // --views FILE: one view per line (CSV with a header, pbdrrViewList.h)
   std::string             rtkGeometryFile;      // --rtk-geometry FILE: RTK's projection geometry XML
