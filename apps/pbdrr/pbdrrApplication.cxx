@@ -284,31 +284,6 @@ VersionText()
 
 namespace
 {
-/** Refuses the options of a batch (--shard, --stack, ...) in a run of one view. */
-void
-CheckSingleViewOptions(const Options & options)
-{
-  std::vector<std::string> flags;
-  for (const auto & flag : { std::make_pair(options.angleStepDegrees.has_value(), "--angle-step"),
-                             std::make_pair(options.shard.has_value(), "--shard"),
-                             std::make_pair(options.resume, "--resume"),
-                             std::make_pair(options.viewIndex.has_value(), "--view-index"),
-                             std::make_pair(options.stack, "--stack"),
-                             std::make_pair(options.independentViews, "--independent-views"),
-                             std::make_pair(!options.writeRtkGeometry.empty(), "--write-rtk-geometry") })
-  {
-    if (flag.first)
-    {
-      flags.push_back(flag.second);
-    }
-  }
-  if (!flags.empty())
-  {
-    throw UsageError(JoinWords(flags, ", ") +
-                     ": for a batch of views (--angles, --views, --rtk-geometry or --manifest)");
-  }
-}
-
 /** pbdrr -v's account of what the render holds per voxel of the CT, beyond the CT itself, and what its preprocessing
  * cost per voxel: the scale the paper promises is a cost set by the points, not by the CT. */
 template <typename TVolume>
@@ -457,7 +432,7 @@ Run(const Options & options)
     RunBatch(options);
     return;
   }
-  CheckSingleViewOptions(options);
+  CheckOptionsApply(options, OptionModes::SingleView);
   const bool                                  chatty = !options.quiet;
   std::vector<std::pair<std::string, double>> stages;
   OutputMode(options); // refuse unknown extensions, and modes they cannot hold, before any work

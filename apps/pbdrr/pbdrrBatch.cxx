@@ -91,15 +91,6 @@ CheckBatchOptions(const Options & options)
                        JoinWords(flags, ", "));
     }
   }
-  if (!options.projectionMatrixFile.empty() || !options.geometryFrom.empty())
-  {
-    throw UsageError("--projection-matrix and --geometry-from give one view: a batch takes its views from --angles, "
-                     "--views or --rtk-geometry");
-  }
-  if (!options.standardErrorOutput.empty())
-  {
-    throw UsageError("--stderr writes one view's standard error: it is not available in a batch");
-  }
   if (options.viewIndex && options.shard)
   {
     throw UsageError("--view-index renders one view: it cannot be combined with --shard");
@@ -703,16 +694,9 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
 void
 RunBatch(const Options & options)
 {
-  if (!options.labelChannelsOutput.empty())
-  {
-    throw UsageError("--label-channels writes the channels of one view; a batch renders --keep-labels and "
-                     "--drop-labels, not channels");
-  }
+  // The options a batch, or a manifest, does not apply to (their declarations): --stderr, --label-channels, --kvp, ...
+  CheckOptionsApply(options, options.manifest.empty() ? OptionModes::Batch : OptionModes::Manifest);
   CheckLabelOptions(options);
-  if (IsPolychromatic(options))
-  {
-    throw UsageError("--spectrum and --kvp render one view; a batch renders line integrals at one energy");
-  }
   if (!options.manifest.empty())
   {
     RunManifest(options);

@@ -21,8 +21,9 @@
 // agree bit for bit; point renders from another seed (--independent-views) within the single view's own standard
 // error (a z-test).
 //
-// The cases are a table (ViewModeCases()); OptionsWithoutACase() fails for an option of pbdrr --help that is in no
-// case and not listed as one that shapes no view. pbdrr itself runs as the command line runs it (PBDRR_EXECUTABLE), on
+// The cases are a table (ViewModeCases()); ViewModesTable fails for an option declared (pbdrr::OptionDeclarations())
+// in no case and not listed as one that shapes no view, and for a case that a mode the option is declared without
+// takes. pbdrr itself runs as the command line runs it (PBDRR_EXECUTABLE), on
 // a phantom the test writes; --geometry-from reads the localizer MakeTestVolumes writes (PBDRR_TEST_DATA_DIR).
 #include "pbdrrOptions.h"
 
@@ -725,8 +726,10 @@ CaseName(const ::testing::TestParamInfo<ViewModeCase> & info)
 
 INSTANTIATE_TEST_SUITE_P(Options, ViewModes, ::testing::ValuesIn(ViewModeCases()), CaseName);
 
-// The table covers pbdrr: an option of pbdrr --help in no case, and not one that shapes no view, fails here.
-TEST(ViewModesTable, EveryOptionThatShapesAViewHasACase)
+// The table covers pbdrr: an option declared (OptionDeclarations()) in no case, and not one that shapes no view,
+// fails here; so does a case whose option a mode should refuse, by its declaration, but which the case expects the
+// mode to take.
+TEST(ViewModesTable, EveryDeclaredOptionHasACaseAndEveryModeItLacksRefusesIt)
 {
   std::set<std::string> covered = OptionsThatShapeNoView();
   for (const ViewModeCase & c : ViewModeCases())
@@ -739,10 +742,40 @@ TEST(ViewModesTable, EveryOptionThatShapesAViewHasACase)
       }
     }
   }
+  const std::pair<Mode, unsigned> modeBits[] = { { Mode::Single, pbdrr::OptionModes::SingleView },
+                                                 { Mode::Angles, pbdrr::OptionModes::Batch },
+                                                 { Mode::Views, pbdrr::OptionModes::Batch },
+                                                 { Mode::ViewIndex, pbdrr::OptionModes::Batch },
+                                                 { Mode::Manifest, pbdrr::OptionModes::Manifest } };
+  for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
+  {
+    EXPECT_TRUE(covered.count(declaration.Name))
+      << declaration.Name << " is declared but in no case of ViewModeCases() (nor in OptionsThatShapeNoView()): give "
+      << "it a case";
+    for (const ViewModeCase & c : ViewModeCases())
+    {
+      if (std::find(c.Arguments.begin(), c.Arguments.end(), declaration.Name) == c.Arguments.end())
+      {
+        continue;
+      }
+      for (const auto & mode : modeBits)
+      {
+        EXPECT_TRUE((declaration.Modes & mode.second) || c.Refusals.count(mode.first))
+          << c.Name << ": " << declaration.Name << " is declared without the mode of " << ModeName(mode.first)
+          << ", which must refuse it";
+      }
+    }
+  }
+  // And --help lists no option that is not declared.
+  std::set<std::string> declared;
+  for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
+  {
+    declared.insert(declaration.Name);
+    declared.insert(declaration.Short);
+  }
   for (const std::string & option : HelpOptions())
   {
-    EXPECT_TRUE(covered.count(option)) << option << " is in pbdrr --help but in no case of ViewModeCases() (nor in "
-                                       << "OptionsThatShapeNoView()): give it a case";
+    EXPECT_TRUE(declared.count(option)) << option << " is in pbdrr --help but not declared (OptionDeclarations())";
   }
 }
 } // namespace
