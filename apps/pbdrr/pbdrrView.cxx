@@ -132,6 +132,9 @@ itk::DRRProjectionGeometry::Pointer
 DefaultView(const itk::ImageBase<3> * volume)
 {
   auto geometry = itk::DRRProjectionGeometry::New();
+  // Gantry 0 as SetGantryAngleInDegrees() gives it, the normal (1, -0, 0), not the geometry's default (1, 0, 0): the
+  // view a sweep's row at gantry 0 gives, to the sign of a zero.
+  geometry->SetGantryAngleInDegrees(0.0);
   geometry->SetDetectorSize({ { DefaultDetectorPixels, DefaultDetectorPixels } });
   geometry->SetDetectorSpacing(itk::Vector<double, 2>(DefaultDetectorSpacing));
   // Default isocenter: the centre of the volume's bounding box (voxel centres); the room origin before the load.

@@ -33,8 +33,9 @@ constexpr double DefaultDetectorSpacing = 1.2;
 
 /** The one way pbdrr builds a view, in every mode (a single view, a batch's views, a manifest's, --view-index), by
  * layers, each changing only what it names:
- *   1. the defaults: DefaultDetectorPixels at DefaultDetectorSpacing, the isocenter at the volume's centre (the room
- *      origin for a null volume, to check the options before the load), DRRProjectionGeometry's own otherwise;
+ *   1. the defaults: gantry 0, DefaultDetectorPixels at DefaultDetectorSpacing, the isocenter at the volume's centre
+ *      (the room origin for a null volume, to check the options before the load), DRRProjectionGeometry's own
+ *      otherwise;
  *   2. the geometry file (--geometry: every key it gives);
  *   3. the flags (--sad, --sid, --gantry, --nrm, --vup, --isocenter, --size, --spacing, --offset, --projection);
  *   4. the batch row (a sweep's gantry, a views file's cells): only the fields it holds. A row's gantry replaces the
