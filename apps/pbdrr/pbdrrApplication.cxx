@@ -19,18 +19,17 @@
 #include "pbdrrLabels.h"
 #include "itkDRRPolychromaticImageFilter.h"
 #include "pbdrrBatch.h"
-#include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
 #include "pbdrrOutputFiles.h"
 #include "pbdrrProgressBar.h"
 #include "pbdrrRegistration.h"
+#include "pbdrrView.h"
 #include "pbdrrVolumeLoader.h"
 
 #include "itkCommand.h"
 #include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRQuantumNoiseImageFilter.h"
-#include "itkDRRProjectionMatrixFileIO.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRROutputConversion.h"
 #include "itkDRRSamplerFactory.h"
@@ -64,169 +63,6 @@ SecondsSince(Clock::time_point start)
 }
 
 } // namespace
-
-namespace
-{
-
-/** The flags that set a view by parts, which a whole view (--projection-matrix, --geometry-from) replaces. */
-std::vector<std::string>
-ViewFlagsGiven(const Options & options)
-{
-  std::vector<std::string>            given;
-  const std::pair<bool, const char *> flags[] = { { !options.geometryFile.empty(), "--geometry" },
-                                                  { options.sad.has_value(), "--sad" },
-                                                  { options.sid.has_value(), "--sid" },
-                                                  { options.gantryDegrees.has_value(), "--gantry" },
-                                                  { options.isocenter.has_value(), "--isocenter" },
-                                                  { options.normal.has_value(), "--nrm" },
-                                                  { options.viewUp.has_value(), "--vup" },
-                                                  { options.detectorOffset.has_value(), "--offset" },
-                                                  { options.projection.has_value(), "--projection/--parallel" } };
-  for (const auto & flag : flags)
-  {
-    if (flag.first)
-    {
-      given.push_back(flag.second);
-    }
-  }
-  return given;
-}
-
-/** The view of a projection matrix file: --size is required (a matrix does not say the detector's size), --spacing DU
- * names the column pitch (the matrix gives the rows' pitch relative to it). */
-itk::DRRProjectionGeometry::Pointer
-MakeGeometryFromMatrix(const Options & options)
-{
-  if (!options.detectorSize)
-  {
-    throw UsageError(
-      "--projection-matrix needs --size COLS ROWS: a projection matrix does not say the detector's size");
-  }
-  auto matrixReader = itk::DRRProjectionMatrixFileIO::New();
-  matrixReader->SetFileName(options.projectionMatrixFile);
-  const auto matrix = matrixReader->Read();
-  auto       geometry = itk::DRRProjectionGeometry::New();
-  if (options.detectorSpacing)
-  {
-    itk::Vector<double, 2> spacing;
-    spacing[0] = (*options.detectorSpacing)[0];
-    spacing[1] = (*options.detectorSpacing)[1];
-    geometry->SetDetectorSpacing(spacing);
-  }
-  geometry->SetProjectionMatrix(matrix,
-                                { { static_cast<itk::SizeValueType>((*options.detectorSize)[0]),
-                                    static_cast<itk::SizeValueType>((*options.detectorSize)[1]) } });
-  geometry->VerifyGeometry();
-  return geometry;
-}
-
-} // namespace
-
-itk::DRRProjectionGeometry::Pointer
-MakeGeometry(const Options & options, const itk::ImageBase<3> * volume)
-{
-  const bool matrix = !options.projectionMatrixFile.empty();
-  const bool localizer = !options.geometryFrom.empty();
-  if (matrix || localizer)
-  {
-    const std::string        whole = matrix ? "--projection-matrix" : "--geometry-from";
-    std::vector<std::string> conflicting = ViewFlagsGiven(options);
-    if (matrix && localizer)
-    {
-      conflicting.push_back("--geometry-from");
-    }
-    if (localizer && (options.detectorSize || options.detectorSpacing))
-    {
-      conflicting.push_back("--size/--spacing");
-    }
-    if (!conflicting.empty())
-    {
-      throw UsageError(whole + " gives the whole view: it cannot be combined with " + JoinWords(conflicting, ", "));
-    }
-    return matrix ? MakeGeometryFromMatrix(options) : ReadLocalizerView(options.geometryFrom).Geometry;
-  }
-  auto geometry = itk::DRRProjectionGeometry::New();
-  geometry->SetDetectorSize({ { 512, 512 } });
-  geometry->SetDetectorSpacing(itk::Vector<double, 2>(1.2));
-  // Default isocenter: the centre of the volume's bounding box (voxel centres); the room origin before the load.
-  if (volume)
-  {
-    geometry->SetIsocenterToImageCenter(volume);
-  }
-  if (!options.geometryFile.empty())
-  {
-    geometry->ReadGeometryFile(options.geometryFile);
-  }
-  auto point = [](const std::array<double, 3> & a) {
-    itk::Point<double, 3> p;
-    std::copy(a.begin(), a.end(), p.Begin());
-    return p;
-  };
-  auto vector3 = [](const std::array<double, 3> & a) {
-    itk::Vector<double, 3> v;
-    std::copy(a.begin(), a.end(), v.Begin());
-    return v;
-  };
-  auto vector2 = [](const std::array<double, 2> & a) {
-    itk::Vector<double, 2> v;
-    v[0] = a[0];
-    v[1] = a[1];
-    return v;
-  };
-  if (options.projection)
-  {
-    geometry->SetProjection(*options.projection);
-  }
-  if (options.sad)
-  {
-    geometry->SetSourceToIsocenterDistance(*options.sad);
-  }
-  if (options.sid)
-  {
-    geometry->SetSourceToDetectorDistance(*options.sid);
-  }
-  if (options.gantryDegrees)
-  {
-    geometry->SetGantryAngleInDegrees(*options.gantryDegrees);
-  }
-  if (options.normal)
-  {
-    geometry->SetNormal(vector3(*options.normal));
-  }
-  if (options.viewUp)
-  {
-    geometry->SetViewUp(vector3(*options.viewUp));
-  }
-  if (options.isocenter)
-  {
-    geometry->SetIsocenter(point(*options.isocenter));
-  }
-  if (options.detectorSize)
-  {
-    geometry->SetDetectorSize({ { static_cast<itk::SizeValueType>((*options.detectorSize)[0]),
-                                  static_cast<itk::SizeValueType>((*options.detectorSize)[1]) } });
-  }
-  if (options.detectorSpacing)
-  {
-    geometry->SetDetectorSpacing(vector2(*options.detectorSpacing));
-  }
-  if (options.detectorOffset)
-  {
-    geometry->SetDetectorOffset(vector2(*options.detectorOffset));
-  }
-  geometry->VerifyGeometry();
-  if (itk::DRRPolicies::Beams::Visit(geometry->GetProjection(), [](auto beam) { return decltype(beam)::HasSource; }) &&
-      !(geometry->GetSourceToDetectorDistance() > geometry->GetSourceToIsocenterDistance()))
-  {
-    // The render keeps what lies between the source and the detector: the volume would be behind it, the image empty.
-    std::ostringstream message;
-    message << "the detector lies between the source and the isocenter (SID " << geometry->GetSourceToDetectorDistance()
-            << " mm <= SAD " << geometry->GetSourceToIsocenterDistance()
-            << " mm), so the volume is behind it: give --sid larger than --sad";
-    throw UsageError(message.str());
-  }
-  return geometry;
-}
 
 itk::DRRTransferFunction::Pointer
 MakeTransferFunction(const Options & options)
@@ -268,6 +104,12 @@ bool
 IsPolychromatic(const Options & options)
 {
   return !options.spectrumFile.empty() || options.kvp.has_value();
+}
+
+bool
+ReadsStandardError(const Options & options)
+{
+  return !options.standardErrorOutput.empty() || IsPolychromatic(options);
 }
 
 itk::DRRXRaySpectrum::Pointer
@@ -398,6 +240,10 @@ MakeRenderer(const Options & options, const TVolume * volume)
     pointBased->SetSampler(itk::DRRSamplerFactory::Create(options.sampler, options.paperCount));
     pointBased->SetControlVariateFactor(options.controlVariate);
     pointBased->SetControlVariateRaysPerSide(options.raysPerSide);
+    // The standard error only where it is read: computing it changes the estimate (the control variate's coarse image
+    // then traces two replicates of rays, not one), so a single view and view 0 of a batch, which reads none, would
+    // otherwise be two estimates of the same image (issue 28).
+    pointBased->SetComputeStandardError(ReadsStandardError(options));
     renderer.Points = pointBased;
     renderer.Filter = pointBased.GetPointer();
   }
@@ -447,31 +293,6 @@ VersionText()
 
 namespace
 {
-/** Refuses the options of a batch (--shard, --stack, ...) in a run of one view. */
-void
-CheckSingleViewOptions(const Options & options)
-{
-  std::vector<std::string> flags;
-  for (const auto & flag : { std::make_pair(options.angleStepDegrees.has_value(), "--angle-step"),
-                             std::make_pair(options.shard.has_value(), "--shard"),
-                             std::make_pair(options.resume, "--resume"),
-                             std::make_pair(options.viewIndex.has_value(), "--view-index"),
-                             std::make_pair(options.stack, "--stack"),
-                             std::make_pair(options.independentViews, "--independent-views"),
-                             std::make_pair(!options.writeRtkGeometry.empty(), "--write-rtk-geometry") })
-  {
-    if (flag.first)
-    {
-      flags.push_back(flag.second);
-    }
-  }
-  if (!flags.empty())
-  {
-    throw UsageError(JoinWords(flags, ", ") +
-                     ": for a batch of views (--angles, --views, --rtk-geometry or --manifest)");
-  }
-}
-
 /** pbdrr -v's account of what the render holds per voxel of the CT, beyond the CT itself, and what its preprocessing
  * cost per voxel: the scale the paper promises is a cost set by the points, not by the CT. */
 template <typename TVolume>
@@ -559,7 +380,8 @@ RenderView(const Options &                               options,
   start = Clock::now();
   ProjectionType::ConstPointer       standardError = pointBased ? pointBased->GetStandardErrorOutput() : nullptr;
   const ProjectionType::ConstPointer lineIntegral = PolychromaticImage(options, spectrum, filter, standardError);
-  const ProjectionType::ConstPointer counted = AddQuantumNoise(options, lineIntegral, options.seed);
+  // Seeded as view 0 of a batch is (a function of (seed, k) alone), so that a single view is view 0 of any batch.
+  const ProjectionType::ConstPointer counted = AddQuantumNoise(options, lineIntegral, ViewSeed(options.seed, 0));
   WriteOutputs(
     options, counted, pointBased && !options.standardErrorOutput.empty() ? standardError.GetPointer() : nullptr, notes);
   WriteLabelChannels(options, filter);
@@ -619,7 +441,7 @@ Run(const Options & options)
     RunBatch(options);
     return;
   }
-  CheckSingleViewOptions(options);
+  CheckOptionsApply(options, OptionModes::SingleView);
   const bool                                  chatty = !options.quiet;
   std::vector<std::pair<std::string, double>> stages;
   OutputMode(options); // refuse unknown extensions, and modes they cannot hold, before any work

@@ -20,6 +20,7 @@
 
 #include "pbdrrImageOutputs.h"
 #include "pbdrrOptions.h"
+#include "pbdrrView.h"
 #include "pbdrrVolumeLoader.h"
 
 #include "itkDRRImageFilterBase.h"
@@ -52,12 +53,6 @@ template <typename TVolume>
 Renderer<TVolume>
 MakeRenderer(const Options & options, const TVolume * volume);
 
-/** The view the options describe: the geometry file, then the flags over it, --projection-matrix or --geometry-from;
- * the default isocenter is the volume's centre (the room origin for a null volume, to check the flags before a load).
- * Throws UsageError or itk::ExceptionObject for a view that cannot be. */
-itk::DRRProjectionGeometry::Pointer
-MakeGeometry(const Options & options, const itk::ImageBase<3> * volume);
-
 /** HU (or mu) to attenuation, as --input-units, --energy, --mu-water and --air-threshold say. */
 itk::DRRTransferFunction::Pointer
 MakeTransferFunction(const Options & options);
@@ -65,6 +60,11 @@ MakeTransferFunction(const Options & options);
 /** True if the options ask for a polychromatic beam (--spectrum or --kvp). */
 bool
 IsPolychromatic(const Options & options);
+
+/** True if the render's standard error is read (--stderr; a polychromatic beam's covariance): the point-based
+ * filter computes it (ComputeStandardError) only then. */
+bool
+ReadsStandardError(const Options & options);
 
 /** The spectrum of --spectrum FILE or --kvp KV (null for neither); throws for a bad spectrum file. */
 itk::DRRXRaySpectrum::Pointer

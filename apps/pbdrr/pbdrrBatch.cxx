@@ -22,6 +22,7 @@
 #include "pbdrrMessages.h"
 #include "pbdrrOutputFiles.h"
 #include "pbdrrRegistration.h"
+#include "pbdrrView.h"
 #include "pbdrrVolumeLoader.h"
 
 #include "itkDRRRTKGeometryFileIO.h"
@@ -90,15 +91,6 @@ CheckBatchOptions(const Options & options)
                        JoinWords(flags, ", "));
     }
   }
-  if (!options.projectionMatrixFile.empty() || !options.geometryFrom.empty())
-  {
-    throw UsageError("--projection-matrix and --geometry-from give one view: a batch takes its views from --angles, "
-                     "--views or --rtk-geometry");
-  }
-  if (!options.standardErrorOutput.empty())
-  {
-    throw UsageError("--stderr writes one view's standard error: it is not available in a batch");
-  }
   if (options.viewIndex && options.shard)
   {
     throw UsageError("--view-index renders one view: it cannot be combined with --shard");
@@ -128,23 +120,19 @@ CheckBatchOptions(const Options & options)
   }
 }
 
-/** RTK's pixel grid for the views of options: --size and --spacing (pbdrr's defaults, 512 x 512 at 1.2 mm), centred
- * as RTK's tools centre projections; RTK's image direction (identity) for views whose columns are mirrored, which is
- * how RTK's images lie, and its rows reversed (diag(1, -1)) for views that are not. */
+/** RTK's pixel grid of the detector of pixels (its size and pitch: the view's own, or for --rtk-geometry the
+ * options' view, --size and --spacing over the defaults), centred as RTK's tools centre projections; RTK's image
+ * direction (identity) for views whose columns are mirrored, which is how RTK's images lie, and its rows reversed
+ * (diag(1, -1)) for views that are not. */
 itk::DRRRTKGeometryFileIO::Pointer
-MakeRTKGeometryIO(const Options & options, bool columnsMirrored)
+MakeRTKGeometryIO(const itk::DRRProjectionGeometry * pixels, bool columnsMirrored)
 {
-  auto                        io = itk::DRRRTKGeometryFileIO::New();
-  const std::array<double, 2> size = options.detectorSize.value_or(std::array<double, 2>{ 512, 512 });
-  const std::array<double, 2> spacing = options.detectorSpacing.value_or(std::array<double, 2>{ 1.2, 1.2 });
-  itk::DRRRTKGeometryFileIO::DetectorVectorType    pitch;
+  auto                                             io = itk::DRRRTKGeometryFileIO::New();
   itk::DRRRTKGeometryFileIO::DetectorDirectionType direction;
-  pitch[0] = spacing[0];
-  pitch[1] = spacing[1];
   direction.SetIdentity();
   direction[1][1] = columnsMirrored ? 1.0 : -1.0;
-  io->SetDetectorSize({ { static_cast<itk::SizeValueType>(size[0]), static_cast<itk::SizeValueType>(size[1]) } });
-  io->SetDetectorSpacing(pitch);
+  io->SetDetectorSize(pixels->GetDetectorSize());
+  io->SetDetectorSpacing(pixels->GetDetectorSpacing());
   io->SetDetectorDirection(direction);
   return io;
 }
@@ -153,13 +141,15 @@ MakeRTKGeometryIO(const Options & options, bool columnsMirrored)
  * them), so that a view reads back from RTK's XML, written with 17 digits, to the same bits, and renders the same
  * image. A view RTK cannot express (a localizer) stays as it is. */
 itk::DRRProjectionGeometry::Pointer
-CanonicalView(const Options & options, const itk::DRRProjectionGeometry::Pointer & geometry)
+CanonicalView(const itk::DRRProjectionGeometry::Pointer & geometry)
 {
   if (geometry->GetProjection() == itk::PointBasedDRREnums::Projection::Localizer)
   {
     return geometry;
   }
-  const auto io = MakeRTKGeometryIO(options, geometry->GetColumnsMirrored());
+  // The view's own pixel grid: with another, the rebuilt view would have another detector (issue 28: a batch drew
+  // the default 512 x 512 pixels of 1.2 mm whatever the geometry file said).
+  const auto io = MakeRTKGeometryIO(geometry, geometry->GetColumnsMirrored());
   try
   {
     auto parameters = io->ComputeParameters(geometry);
@@ -190,7 +180,7 @@ ReadViews(const Options & options, std::string & from)
   {
     from = "--angles";
     return MakeSweep(*options.angles,
-                     options.gantryDegrees.value_or(0.0),
+                     SweepStartDegrees(options),
                      options.angleStepDegrees.value_or(360.0 / static_cast<double>(*options.angles)));
   }
   if (!options.viewsFile.empty())
@@ -199,7 +189,7 @@ ReadViews(const Options & options, std::string & from)
     return ReadViewsFile(options.viewsFile);
   }
   from = options.rtkGeometryFile;
-  const auto io = MakeRTKGeometryIO(options, true);
+  const auto io = MakeRTKGeometryIO(MakeGeometry(options, nullptr), true);
   io->SetFileName(options.rtkGeometryFile);
   std::vector<ViewSpec> views;
   try
@@ -319,7 +309,7 @@ CheckViews(const Options & options, const BatchPlan & plan)
     }
     try
     {
-      const auto geometry = MakeGeometry(ApplyView(options, plan.Views[k]), nullptr);
+      const auto geometry = MakeView(options, plan.Views[k], nullptr);
       if (options.stack && geometry->GetProjection() == itk::PointBasedDRREnums::Projection::Localizer)
       {
         throw UsageError("a stack keeps its views in RTK's XML, which has no localizer beam: give numbered files "
@@ -337,10 +327,21 @@ CheckViews(const Options & options, const BatchPlan & plan)
   }
 }
 
+/** True if the batch writes its views in RTK's XML (--write-rtk-geometry, or a stack's views beside it). */
+bool
+WritesRTKGeometry(const Options & options)
+{
+  return options.stack || !options.writeRtkGeometry.empty();
+}
+
+/** View k of a batch: MakeView(), the single view's bits, so that view 0 of a batch is the single view of the same
+ * options (issue 28); as RTK's parameters say it (CanonicalView()) if the batch writes RTK's XML, so that the XML
+ * reads back to the images it was written with. */
 itk::DRRProjectionGeometry::Pointer
 ViewGeometry(const Options & options, const ViewSpec & view, const itk::ImageBase<3> * volume)
 {
-  return view.Whole ? view.Whole : CanonicalView(options, MakeGeometry(ApplyView(options, view), volume));
+  const auto geometry = MakeView(options, view, volume);
+  return WritesRTKGeometry(options) ? CanonicalView(geometry) : geometry;
 }
 
 /** Every view of the batch in RTK's XML at path (each shard writes the same file, whole): --write-rtk-geometry's file,
@@ -357,10 +358,9 @@ WriteRTKGeometry(const Options &           options,
   {
     // The view before CanonicalView(): the writer computes the same RTK parameters from it as CanonicalView() does
     // (from the canonical view it would compute parameters a rounding apart), so the file reads back to its bits.
-    geometries.push_back(view.Whole ? view.Whole.GetPointer()
-                                    : MakeGeometry(ApplyView(options, view), volume).GetPointer());
+    geometries.push_back(MakeView(options, view, volume).GetPointer());
   }
-  const auto io = MakeRTKGeometryIO(options, geometries.front()->GetColumnsMirrored());
+  const auto io = MakeRTKGeometryIO(geometries.front(), geometries.front()->GetColumnsMirrored());
   try
   {
     WriteAtomically(path, [&](const std::string & temporary) {
@@ -538,8 +538,8 @@ BatchProgress::Finish()
 
 namespace
 {
-/** The renderer of a batch: the options' own, with the points kept for every view (unless --independent-views) and no
- * standard error (nobody reads it: the control variate's coarse image traces half the rays). */
+/** The renderer of a batch: the options' own (without a standard error: a batch writes none), with the points kept for
+ * every view (unless --independent-views). */
 template <typename TVolume>
 Renderer<TVolume>
 MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume * volume)
@@ -551,7 +551,6 @@ MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume
   }
   // One draw serves every view: view k's image is then a function of (seed, its view) alone.
   renderer.Points->SetReusePoints(!options.independentViews);
-  renderer.Points->ComputeStandardErrorOff();
   if (!options.independentViews && options.controlVariate == PointFilterType<TVolume>::AutomaticControlVariateFactor)
   {
     // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
@@ -695,16 +694,9 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
 void
 RunBatch(const Options & options)
 {
-  if (!options.labelChannelsOutput.empty())
-  {
-    throw UsageError("--label-channels writes the channels of one view; a batch renders --keep-labels and "
-                     "--drop-labels, not channels");
-  }
+  // The options a batch, or a manifest, does not apply to (their declarations): --stderr, --label-channels, --kvp, ...
+  CheckOptionsApply(options, options.manifest.empty() ? OptionModes::Batch : OptionModes::Manifest);
   CheckLabelOptions(options);
-  if (IsPolychromatic(options))
-  {
-    throw UsageError("--spectrum and --kvp render one view; a batch renders line integrals at one energy");
-  }
   if (!options.manifest.empty())
   {
     RunManifest(options);

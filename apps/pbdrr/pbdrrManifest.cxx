@@ -134,12 +134,7 @@ ReadManifest(const std::string & path, const Options & commandLine)
 void
 RunManifest(const Options & options)
 {
-  if (options.angles || !options.viewsFile.empty() || !options.rtkGeometryFile.empty() || options.viewIndex ||
-      options.stack)
-  {
-    throw UsageError("--manifest gives each volume its views and outputs: --angles, --views, --rtk-geometry, "
-                     "--view-index and --stack go in its rows, or in a run of one volume");
-  }
+  // --angles, --views, --rtk-geometry, --view-index and --stack are refused before (RunBatch(): their declarations).
   const std::vector<ManifestEntry> entries = ReadManifest(options.manifest, options);
   std::vector<BatchPlan>           plans;
   uint64_t                         offset = 0, selected = 0, skipped = 0;

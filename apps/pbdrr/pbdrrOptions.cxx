@@ -304,133 +304,296 @@ IsBatch(const Options & options)
   return options.angles || !options.viewsFile.empty() || !options.rtkGeometryFile.empty() || !options.manifest.empty();
 }
 
+const std::vector<OptionDeclaration> &
+OptionDeclarations()
+{
+  using Values = std::vector<std::string>;
+  // The modes, short: every mode, a single view's only, a batch's (and a manifest's), a batch's only, a manifest's.
+  constexpr unsigned all = OptionModes::Every, one = OptionModes::SingleView;
+  constexpr unsigned batches = OptionModes::Batch | OptionModes::Manifest, batch = OptionModes::Batch;
+  constexpr unsigned manifest = OptionModes::Manifest;
+  // The refusals several options share.
+  const char * const oneView = "--projection-matrix and --geometry-from give one view: a batch takes its views from "
+                               "--angles, --views or --rtk-geometry";
+  const char * const polychromatic =
+    "--spectrum and --kvp render one view; a batch renders line integrals at one energy";
+  const char * const inRows = "--manifest gives each volume its views and outputs: --angles, --views, --rtk-geometry, "
+                              "--view-index and --stack go in its rows, or in a run of one volume";
+  static const std::vector<OptionDeclaration> declarations = {
+    { "--output", "-o", 1, all, "", [](Options & o, const Values & v) { o.output = v[0]; } },
+    { "--stderr",
+      "",
+      1,
+      one,
+      "--stderr writes one view's standard error: it is not available in a batch",
+      [](Options & o, const Values & v) { o.standardErrorOutput = v[0]; } },
+    { "--geometry", "", 1, all, "", [](Options & o, const Values & v) { o.geometryFile = v[0]; } },
+    { "--series", "", 1, all, "", [](Options & o, const Values & v) { o.seriesUID = v[0]; } },
+    { "--list-series", "", 1, all, "", [](Options & o, const Values & v) { o.listSeries = v[0]; } },
+    { "--sad", "", 1, all, "", [](Options & o, const Values & v) { o.sad = PositiveLength(v[0], "--sad", "SAD"); } },
+    { "--sid", "", 1, all, "", [](Options & o, const Values & v) { o.sid = PositiveLength(v[0], "--sid", "SID"); } },
+    { "--gantry",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.gantryDegrees = ParseNumber(v[0], "--gantry"); } },
+    { "--isocenter",
+      "",
+      3,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.isocenter = Numbers<3>(v, "--isocenter"); } },
+    { "--nrm", "", 3, all, "", [](Options & o, const Values & v) { o.normal = Numbers<3>(v, "--nrm"); } },
+    { "--vup", "", 3, all, "", [](Options & o, const Values & v) { o.viewUp = Numbers<3>(v, "--vup"); } },
+    { "--size",
+      "",
+      2,
+      all,
+      "",
+      [](Options & o, const Values & v) {
+        o.detectorSize = std::array<double, 2>{ static_cast<double>(WholeNumber(v[0], "--size", 1, 16384)),
+                                                static_cast<double>(WholeNumber(v[1], "--size", 1, 16384)) };
+      } },
+    { "--spacing",
+      "",
+      2,
+      all,
+      "",
+      [](Options & o, const Values & v) {
+        o.detectorSpacing = std::array<double, 2>{ PositiveLength(v[0], "--spacing", "pixel spacing"),
+                                                   PositiveLength(v[1], "--spacing", "pixel spacing") };
+      } },
+    { "--offset", "", 2, all, "", [](Options & o, const Values & v) { o.detectorOffset = Numbers<2>(v, "--offset"); } },
+    { "--parallel",
+      "",
+      0,
+      all,
+      "",
+      [](Options & o, const Values &) { o.projection = itk::PointBasedDRREnums::Projection::Parallel; } },
+    { "--projection",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.projection = Policy<itk::DRRPolicies::Beams>(v[0], "--projection"); } },
+    { "--projection-matrix",
+      "",
+      1,
+      one,
+      oneView,
+      [](Options & o, const Values & v) { o.projectionMatrixFile = v[0]; } },
+    { "--geometry-from", "", 1, one, oneView, [](Options & o, const Values & v) { o.geometryFrom = v[0]; } },
+    { "--samples", "", 1, all, "", [](Options & o, const Values & v) { o.samples = ParseSampleCount(v[0]); } },
+    { "--sampler",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.sampler = OneOf(v[0], "--sampler", SamplerNames()); } },
+    { "--kernel",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.kernel = Policy<itk::DRRPolicies::Kernels>(v[0], "--kernel"); } },
+    { "--splat",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.splat = Policy<itk::DRRPolicies::Splats>(v[0], "--splat"); } },
+    { "--seed",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) {
+        const double                          s = ParseNumber(v[0], "--seed");
+        if (s < 0 || s != std::floor(s) || s > 9007199254740992.0)
+        {
+          throw UsageError("--seed expects a whole number from 0 to 2^53, got '" + v[0] + "'");
+        }
+        o.seed = static_cast<uint64_t>(s);
+      } },
+    { "--threads",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.threads = WholeNumber(v[0], "--threads", 1, 1024); } },
+    { "--paper-count", "", 0, all, "", [](Options & o, const Values &) { o.paperCount = true; } },
+    { "--strata",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.strata = WholeNumber(v[0], "--strata", 2, 256); } },
+    { "--control-variate",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) {
+        o.controlVariate = ControlVariateFactor(v[0]);
+        o.controlVariateGiven = true;
+      } },
+    { "--input-units",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) {
+        o.inputUnits = OneOf(v[0], "--input-units", { "hu", "mu" });
+      } },
+    { "--energy", "", 1, all, "", [](Options & o, const Values & v) { o.energyKeV = ParseNumber(v[0], "--energy"); } },
+    { "--mu-water",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.muWater = ParseNumber(v[0], "--mu-water"); } },
+    { "--air-threshold",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.airThreshold = ParseNumber(v[0], "--air-threshold"); } },
+    { "--output-mode",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) {
+        o.outputMode = OneOf(v[0], "--output-mode", { "line-integral", "transmission", "gray8", "gray16" });
+      } },
+    { "--window", "", 2, all, "", [](Options & o, const Values & v) { o.window = Numbers<2>(v, "--window"); } },
+    { "--photons",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) {
+        const double                          photons = ParseNumber(v[0], "--photons");
+        if (!(photons > 0.0 && photons <= 1e12))
+        {
+          throw UsageError("--photons expects photons per pixel in (0, 1e12], got '" + v[0] + "'");
+        }
+        o.photons = photons;
+      } },
+    { "--labels", "", 1, all, "", [](Options & o, const Values & v) { o.labelsFile = v[0]; } },
+    { "--keep-labels",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.keepLabels = ParseLabelList(v[0], "--keep-labels"); } },
+    { "--drop-labels",
+      "",
+      1,
+      all,
+      "",
+      [](Options & o, const Values & v) { o.dropLabels = ParseLabelList(v[0], "--drop-labels"); } },
+    { "--label-channels",
+      "",
+      1,
+      one,
+      "--label-channels writes the channels of one view; a batch renders --keep-labels and --drop-labels, not channels",
+      [](Options & o, const Values & v) { o.labelChannelsOutput = v[0]; } },
+    { "--spectrum", "", 1, one, polychromatic, [](Options & o, const Values & v) { o.spectrumFile = v[0]; } },
+    { "--kvp",
+      "",
+      1,
+      one,
+      polychromatic,
+      [](Options & o, const Values & v) {
+        const double                          kvp = ParseNumber(v[0], "--kvp");
+        if (!(kvp >= 20.0 && kvp <= 800.0))
+        {
+          throw UsageError("--kvp expects a tube voltage from 20 to 800 kV, got '" + v[0] + "'");
+        }
+        o.kvp = kvp;
+      } },
+    { "--materials", "", 1, all, "", [](Options & o, const Values & v) { o.materialsFile = v[0]; } },
+    { "--jensen-correction", "", 0, all, "", [](Options & o, const Values &) { o.jensenCorrection = true; } },
+    { "--exact", "", 1, all, "", [](Options & o, const Values & v) { o.exact = ExactReferenceKernel(v[0]); } },
+    { "--ss", "", 1, all, "", [](Options & o, const Values & v) { o.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } },
+    { "--angles",
+      "",
+      1,
+      batch,
+      inRows,
+      [](Options & o, const Values & v) { o.angles = WholeNumber(v[0], "--angles", 1, 1000000); } },
+    { "--angle-step",
+      "",
+      1,
+      batches,
+      "",
+      [](Options & o, const Values & v) { o.angleStepDegrees = ParseNumber(v[0], "--angle-step"); } },
+    { "--views", "", 1, batch, inRows, [](Options & o, const Values & v) { o.viewsFile = v[0]; } },
+    { "--rtk-geometry", "", 1, batch, inRows, [](Options & o, const Values & v) { o.rtkGeometryFile = v[0]; } },
+    { "--write-rtk-geometry", "", 1, batches, "", [](Options & o, const Values & v) { o.writeRtkGeometry = v[0]; } },
+    { "--manifest", "", 1, manifest, "", [](Options & o, const Values & v) { o.manifest = v[0]; } },
+    { "--stack", "", 0, batch, inRows, [](Options & o, const Values &) { o.stack = true; } },
+    { "--shard", "", 1, batches, "", [](Options & o, const Values & v) { o.shard = ParseShard(v[0]); } },
+    { "--resume", "", 0, batches, "", [](Options & o, const Values &) { o.resume = true; } },
+    { "--view-index",
+      "",
+      1,
+      batch,
+      inRows,
+      [](Options & o, const Values & v) { o.viewIndex = WholeNumber(v[0], "--view-index", 0, 1e9); } },
+    { "--independent-views", "", 0, batches, "", [](Options & o, const Values &) { o.independentViews = true; } },
+    { "--quiet", "-q", 0, all, "", [](Options & o, const Values &) { o.quiet = true; } },
+    { "--verbose", "-v", 0, all, "", [](Options & o, const Values &) { o.verbose = true; } },
+    { "--help", "-h", 0, all, "", [](Options & o, const Values &) { o.help = true; } },
+    { "--version", "", 0, all, "", [](Options & o, const Values &) { o.version = true; } },
+  };
+  return declarations;
+}
+
+bool
+IsGiven(const Options & options, const std::string & name)
+{
+  return std::find(options.given.begin(), options.given.end(), name) != options.given.end();
+}
+
+void
+CheckOptionsApply(const Options & options, unsigned mode)
+{
+  std::vector<std::string> refused;
+  for (const OptionDeclaration & declaration : OptionDeclarations())
+  {
+    if (!(declaration.Modes & mode) && IsGiven(options, declaration.Name))
+    {
+      if (mode != OptionModes::SingleView)
+      {
+        throw UsageError(declaration.Refusal);
+      }
+      refused.push_back(declaration.Name);
+    }
+  }
+  if (!refused.empty())
+  {
+    throw UsageError(JoinWords(refused, ", ") +
+                     ": for a batch of views (--angles, --views, --rtk-geometry or --manifest)");
+  }
+}
+
 Options
 ParseCommandLine(const std::vector<std::string> & arguments)
 {
   Options options;
-  using Handler = std::function<void(const std::vector<std::string> &)>;
-  struct Flag
+  // Every option by its name and its short form.
+  std::map<std::string, const OptionDeclaration *> flags;
+  for (const OptionDeclaration & declaration : OptionDeclarations())
   {
-    size_t  count;
-    Handler handle;
-  };
-  const std::map<std::string, Flag> flags = {
-    { "-o", { 1, [&](const auto & v) { options.output = v[0]; } } },
-    { "--output", { 1, [&](const auto & v) { options.output = v[0]; } } },
-    { "--stderr", { 1, [&](const auto & v) { options.standardErrorOutput = v[0]; } } },
-    { "--geometry", { 1, [&](const auto & v) { options.geometryFile = v[0]; } } },
-    { "--series", { 1, [&](const auto & v) { options.seriesUID = v[0]; } } },
-    { "--list-series", { 1, [&](const auto & v) { options.listSeries = v[0]; } } },
-    { "--sad", { 1, [&](const auto & v) { options.sad = PositiveLength(v[0], "--sad", "SAD"); } } },
-    { "--sid", { 1, [&](const auto & v) { options.sid = PositiveLength(v[0], "--sid", "SID"); } } },
-    { "--gantry", { 1, [&](const auto & v) { options.gantryDegrees = ParseNumber(v[0], "--gantry"); } } },
-    { "--isocenter", { 3, [&](const auto & v) { options.isocenter = Numbers<3>(v, "--isocenter"); } } },
-    { "--nrm", { 3, [&](const auto & v) { options.normal = Numbers<3>(v, "--nrm"); } } },
-    { "--vup", { 3, [&](const auto & v) { options.viewUp = Numbers<3>(v, "--vup"); } } },
-    { "--size",
-      { 2,
-        [&](const auto & v) {
-          options.detectorSize = std::array<double, 2>{ static_cast<double>(WholeNumber(v[0], "--size", 1, 16384)),
-                                                        static_cast<double>(WholeNumber(v[1], "--size", 1, 16384)) };
-        } } },
-    { "--spacing",
-      { 2,
-        [&](const auto & v) {
-          options.detectorSpacing = std::array<double, 2>{ PositiveLength(v[0], "--spacing", "pixel spacing"),
-                                                           PositiveLength(v[1], "--spacing", "pixel spacing") };
-        } } },
-    { "--offset", { 2, [&](const auto & v) { options.detectorOffset = Numbers<2>(v, "--offset"); } } },
-    { "--parallel", { 0, [&](const auto &) { options.projection = itk::PointBasedDRREnums::Projection::Parallel; } } },
-    { "--projection",
-      { 1, [&](const auto & v) { options.projection = Policy<itk::DRRPolicies::Beams>(v[0], "--projection"); } } },
-    { "--projection-matrix", { 1, [&](const auto & v) { options.projectionMatrixFile = v[0]; } } },
-    { "--geometry-from", { 1, [&](const auto & v) { options.geometryFrom = v[0]; } } },
-    { "--samples", { 1, [&](const auto & v) { options.samples = ParseSampleCount(v[0]); } } },
-    { "--sampler", { 1, [&](const auto & v) { options.sampler = OneOf(v[0], "--sampler", SamplerNames()); } } },
-    { "--kernel",
-      { 1, [&](const auto & v) { options.kernel = Policy<itk::DRRPolicies::Kernels>(v[0], "--kernel"); } } },
-    { "--splat", { 1, [&](const auto & v) { options.splat = Policy<itk::DRRPolicies::Splats>(v[0], "--splat"); } } },
-    { "--seed",
-      { 1,
-        [&](const auto & v) {
-          const double              s = ParseNumber(v[0], "--seed");
-          if (s < 0 || s != std::floor(s) || s > 9007199254740992.0)
-          {
-            throw UsageError("--seed expects a whole number from 0 to 2^53, got '" + v[0] + "'");
-          }
-          options.seed = static_cast<uint64_t>(s);
-        } } },
-    { "--threads", { 1, [&](const auto & v) { options.threads = WholeNumber(v[0], "--threads", 1, 1024); } } },
-    { "--paper-count", { 0, [&](const auto &) { options.paperCount = true; } } },
-    { "--strata", { 1, [&](const auto & v) { options.strata = WholeNumber(v[0], "--strata", 2, 256); } } },
-    { "--control-variate",
-      { 1,
-        [&](const auto & v) {
-          options.controlVariate = ControlVariateFactor(v[0]);
-          options.controlVariateGiven = true;
-        } } },
-    { "--input-units",
-      { 1,
-        [&](const auto & v) {
-          options.inputUnits = OneOf(v[0], "--input-units", { "hu", "mu" });
-        } } },
-    { "--energy", { 1, [&](const auto & v) { options.energyKeV = ParseNumber(v[0], "--energy"); } } },
-    { "--mu-water", { 1, [&](const auto & v) { options.muWater = ParseNumber(v[0], "--mu-water"); } } },
-    { "--air-threshold", { 1, [&](const auto & v) { options.airThreshold = ParseNumber(v[0], "--air-threshold"); } } },
-    { "--output-mode",
-      { 1,
-        [&](const auto & v) {
-          options.outputMode = OneOf(v[0], "--output-mode", { "line-integral", "transmission", "gray8", "gray16" });
-        } } },
-    { "--window", { 2, [&](const auto & v) { options.window = Numbers<2>(v, "--window"); } } },
-    { "--photons",
-      { 1,
-        [&](const auto & v) {
-          const double              photons = ParseNumber(v[0], "--photons");
-          if (!(photons > 0.0 && photons <= 1e12))
-          {
-            throw UsageError("--photons expects photons per pixel in (0, 1e12], got '" + v[0] + "'");
-          }
-          options.photons = photons;
-        } } },
-    { "--labels", { 1, [&](const auto & v) { options.labelsFile = v[0]; } } },
-    { "--keep-labels", { 1, [&](const auto & v) { options.keepLabels = ParseLabelList(v[0], "--keep-labels"); } } },
-    { "--drop-labels", { 1, [&](const auto & v) { options.dropLabels = ParseLabelList(v[0], "--drop-labels"); } } },
-    { "--label-channels", { 1, [&](const auto & v) { options.labelChannelsOutput = v[0]; } } },
-    { "--spectrum", { 1, [&](const auto & v) { options.spectrumFile = v[0]; } } },
-    { "--kvp",
-      { 1,
-        [&](const auto & v) {
-          const double              kvp = ParseNumber(v[0], "--kvp");
-          if (!(kvp >= 20.0 && kvp <= 800.0))
-          {
-            throw UsageError("--kvp expects a tube voltage from 20 to 800 kV, got '" + v[0] + "'");
-          }
-          options.kvp = kvp;
-        } } },
-    { "--materials", { 1, [&](const auto & v) { options.materialsFile = v[0]; } } },
-    { "--jensen-correction", { 0, [&](const auto &) { options.jensenCorrection = true; } } },
-    { "--exact", { 1, [&](const auto & v) { options.exact = ExactReferenceKernel(v[0]); } } },
-    { "--ss", { 1, [&](const auto & v) { options.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } } },
-    { "--angles", { 1, [&](const auto & v) { options.angles = WholeNumber(v[0], "--angles", 1, 1000000); } } },
-    { "--angle-step", { 1, [&](const auto & v) { options.angleStepDegrees = ParseNumber(v[0], "--angle-step"); } } },
-    { "--views", { 1, [&](const auto & v) { options.viewsFile = v[0]; } } },
-    { "--rtk-geometry", { 1, [&](const auto & v) { options.rtkGeometryFile = v[0]; } } },
-    { "--write-rtk-geometry", { 1, [&](const auto & v) { options.writeRtkGeometry = v[0]; } } },
-    { "--manifest", { 1, [&](const auto & v) { options.manifest = v[0]; } } },
-    { "--stack", { 0, [&](const auto &) { options.stack = true; } } },
-    { "--shard", { 1, [&](const auto & v) { options.shard = ParseShard(v[0]); } } },
-    { "--resume", { 0, [&](const auto &) { options.resume = true; } } },
-    { "--view-index", { 1, [&](const auto & v) { options.viewIndex = WholeNumber(v[0], "--view-index", 0, 1e9); } } },
-    { "--independent-views", { 0, [&](const auto &) { options.independentViews = true; } } },
-    { "--quiet", { 0, [&](const auto &) { options.quiet = true; } } },
-    { "-q", { 0, [&](const auto &) { options.quiet = true; } } },
-    { "--verbose", { 0, [&](const auto &) { options.verbose = true; } } },
-    { "-v", { 0, [&](const auto &) { options.verbose = true; } } },
-    { "--help", { 0, [&](const auto &) { options.help = true; } } },
-    { "-h", { 0, [&](const auto &) { options.help = true; } } },
-    { "--version", { 0, [&](const auto &) { options.version = true; } } },
-  };
+    flags[declaration.Name] = &declaration;
+    if (!declaration.Short.empty())
+    {
+      flags[declaration.Short] = &declaration;
+    }
+  }
 
   std::vector<std::string> positional;
   for (size_t i = 0; i < arguments.size(); ++i)
@@ -442,11 +605,11 @@ ParseCommandLine(const std::vector<std::string> & arguments)
       const size_t      equals = argument.rfind("--", 0) == 0 ? argument.find('=') : std::string::npos;
       const std::string name = argument.substr(0, equals);
       const auto        flag = flags.find(name);
-      if (flag == flags.end() || (equals != std::string::npos && flag->second.count == 0))
+      if (flag == flags.end() || (equals != std::string::npos && flag->second->Values == 0))
       {
         const std::vector<std::string> combined = CombinedShortFlags(argument, [&](const std::string & single) {
           const auto found = flags.find(single);
-          return found != flags.end() && found->second.count == 0;
+          return found != flags.end() && found->second->Values == 0;
         });
         if (combined.empty())
         {
@@ -454,11 +617,12 @@ ParseCommandLine(const std::vector<std::string> & arguments)
         }
         for (const std::string & single : combined)
         {
-          flags.at(single).handle({});
+          flags.at(single)->Apply(options, {});
+          options.given.push_back(flags.at(single)->Name);
         }
         continue;
       }
-      const size_t             count = flag->second.count;
+      const size_t             count = flag->second->Values;
       std::vector<std::string> values;
       if (equals != std::string::npos)
       {
@@ -477,7 +641,8 @@ ParseCommandLine(const std::vector<std::string> & arguments)
         values.assign(arguments.begin() + i + 1, arguments.begin() + i + 1 + count);
         i += count;
       }
-      flag->second.handle(values);
+      flag->second->Apply(options, values);
+      options.given.push_back(flag->second->Name);
     }
     else
     {
@@ -690,10 +855,11 @@ Physics:
                          the channels add up to OUTPUT (rendered without a control variate)
 
 Batches: many views in one run, the volume loaded once and the points drawn once for every view; view k's image
-depends only on (--seed, k), whichever run, shard or thread count renders it. The sampling options are a single
-view's; for speed, --control-variate 16 --samples 2M renders a 256 x 256 chest view in 26 ms at NRMSE < 2%
+depends only on (--seed, k), whichever run, shard or thread count renders it, and view 0 is the single view of the
+same options (--geometry, then the flags, then the view's own fields). The sampling options are a single view's;
+for speed, --control-variate 16 --samples 2M renders a 256 x 256 chest view in 26 ms at NRMSE < 2%
 (--control-variate 8: 33 ms, < 1.4%; docs/benchmark/batch_chest_360.md):
-  --angles N             a gantry sweep of N views from --gantry (plastimatch's -a)
+  --angles N             a gantry sweep of N views from --gantry or the --geometry file's (plastimatch's -a)
   --angle-step DEG       degrees between the sweep's views (default 360 / N; plastimatch's -N)
   --views FILE           one view per line, CSV with a header naming the columns: gantry | nrm_x nrm_y nrm_z,
                          vup_x vup_y vup_z, iso_x iso_y iso_z, sad, sid, offset_u offset_v, the CT's pose tx ty tz

@@ -24,6 +24,7 @@
 #include "itkPointBasedDRREnums.h"
 
 #include <array>
+#include <functional>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
@@ -103,7 +104,7 @@ struct Options
   unsigned                                                     raysPerSide{ 1 };
 
   /** Batches (pbdrrBatch.h): many views of one volume in one run; view k depends only on (seed, k). */
-  std::optional<unsigned> angles;               // --angles N: a gantry sweep of N views from --gantry (default 0)
+  std::optional<unsigned> angles; // --angles N: a sweep of N views from the view's gantry (SweepStartDegrees())
   std::optional<double>   angleStepDegrees;     // --angle-step DEG: degrees between the sweep's views (default 360 / N)
   std::string             viewsFile;            // --views FILE: one view per line (CSV with a header, pbdrrViewList.h)
   std::string             rtkGeometryFile;      // --rtk-geometry FILE: RTK's projection geometry XML
@@ -122,7 +123,50 @@ struct Options
   bool                     verbose{ false };
   bool                     help{ false };
   bool                     version{ false };
+  /** The options the command line gave, by their long names (OptionDeclaration::Name), in its order. */
+  std::vector<std::string> given;
 };
+
+/** The modes of pbdrr an option applies to (OptionDeclaration::Modes): a bit each. */
+namespace OptionModes
+{
+/** pbdrr INPUT -o OUTPUT: one view. */
+constexpr unsigned SingleView = 1u;
+/** --angles, --views or --rtk-geometry: a batch of views of one volume. */
+constexpr unsigned Batch = 2u;
+/** --manifest: batches of many volumes. */
+constexpr unsigned Manifest = 4u;
+/** Every mode. */
+constexpr unsigned Every = SingleView | Batch | Manifest;
+} // namespace OptionModes
+
+/** One option of pbdrr, declared once: ParseCommandLine() parses it from this declaration, a mode the option does not
+ * apply to refuses it (CheckOptionsApply()), and the tests check --help and the fuzzers'
+ * dictionary against the declarations (pbdrrPolicyRegistryGTest, pbdrrViewModesGTest). */
+struct OptionDeclaration
+{
+  std::string Name;   ///< --name
+  std::string Short;  ///< -x, or empty
+  size_t      Values; ///< how many values follow it (0: a switch)
+  unsigned    Modes;  ///< the modes it applies to (OptionModes bits)
+  /** Why a batch or a manifest that it does not apply to refuses it (a single view says "for a batch of views"). */
+  std::string Refusal;
+  /** Sets the option in options from its values; throws UsageError naming it and a bad value. */
+  std::function<void(Options &, const std::vector<std::string> &)> Apply;
+};
+
+/** Every option of pbdrr, in the order of its help. */
+const std::vector<OptionDeclaration> &
+OptionDeclarations();
+
+/** True if the command line gave the option called name (its long name). */
+bool
+IsGiven(const Options & options, const std::string & name);
+
+/** Refuses, with its declaration's message, an option given that mode (one of OptionModes) does not apply to: a single
+ * view "NAME, ...: for a batch of views", a batch or a manifest OptionDeclaration::Refusal. Throws UsageError. */
+void
+CheckOptionsApply(const Options & options, unsigned mode);
 
 /** Parses argv; throws UsageError naming the flag and the bad value. */
 Options

@@ -269,7 +269,8 @@ Usage: pbdrr register CT --xray X [--xray Y ...] -o OUT.png [options]
 
 CT      a DICOM series directory, an export root or a volume ITK reads (HU), as for pbdrr
 --xray FILE             an X-ray: a CT localizer (DICOM; its view from its header), or a 2D image followed by
-  --geometry FILE         its view as a geometry file, or
+  --geometry FILE         its view as a geometry file (as pbdrr --geometry reads it: where the file is silent,
+                          512 x 512 pixels of 1.2 mm about the CT's centre), or
   --projection-matrix FILE  its view as a 3 x 4 projection matrix
 -o OUT.png              the DRR at the pose (OUT.N.png for the N-th of several X-rays) and OUT.checkerboard.png,
                         the DRR and the X-ray in alternate 32-pixel squares
@@ -326,6 +327,17 @@ RunRegister(const RegisterOptions & options)
       std::cerr << "pbdrr: " << note << std::endl;
     }
     std::cerr << "pbdrr: register: CT " << loaded.Description << std::endl;
+  }
+  // A geometry file's view as a single view of it is built, its default isocenter the CT's centre: built again now
+  // that the CT is loaded (above, before the load, to check the X-rays first).
+  const itk::ImageBase<3> * volume =
+    loaded.HU ? static_cast<const itk::ImageBase<3> *>(loaded.HU.GetPointer()) : loaded.Image.GetPointer();
+  for (size_t x = 0; x < xrays.size(); ++x)
+  {
+    if (!options.xrays[x].GeometryFile.empty())
+    {
+      xrays[x].Geometry = XRayViewOfFile(options.xrays[x].GeometryFile, volume);
+    }
   }
   const RegistrationResult result = loaded.HU ? RegisterToXRays(loaded.HU.GetPointer(), xrays, options.settings)
                                               : RegisterToXRays(loaded.Image.GetPointer(), xrays, options.settings);

@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "pbdrrRegistration.h"
 #include "pbdrrDicomLocalizerGeometry.h"
+#include "pbdrrView.h"
 
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRProjectionMatrixFileIO.h"
@@ -356,8 +357,19 @@ RegistrationMetricNames()
   return names;
 }
 
+itk::DRRProjectionGeometry::Pointer
+XRayViewOfFile(const std::string & geometryFile, const itk::ImageBase<3> * volume)
+{
+  Options options;
+  options.geometryFile = geometryFile;
+  return MakeGeometry(options, volume);
+}
+
 XRay
-ReadXRay(const std::string & image, const std::string & geometryFile, const std::string & matrixFile)
+ReadXRay(const std::string &       image,
+         const std::string &       geometryFile,
+         const std::string &       matrixFile,
+         const itk::ImageBase<3> * volume)
 {
   if (!geometryFile.empty() && !matrixFile.empty())
   {
@@ -368,8 +380,7 @@ ReadXRay(const std::string & image, const std::string & geometryFile, const std:
   const auto size = xray.Image->GetLargestPossibleRegion().GetSize();
   if (!geometryFile.empty())
   {
-    xray.Geometry = GeometryType::New();
-    xray.Geometry->ReadGeometryFile(geometryFile);
+    xray.Geometry = XRayViewOfFile(geometryFile, volume);
     xray.Description = image + " in the view of " + geometryFile;
   }
   else if (!matrixFile.empty())

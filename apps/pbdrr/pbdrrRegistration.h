@@ -41,10 +41,20 @@ struct XRay
 };
 
 /** Reads an X-ray: a CT localizer's DICOM file with its view from its header (ReadLocalizerView), or any 2D image with
- * a view from a geometry file or a projection matrix file (one of the two, not both). Throws std::runtime_error if the
- * image is not 2D, its size is not the view's, or a localizer's header does not give its view. */
+ * a view from a geometry file (XRayViewOfFile()) or a projection matrix file (one of the two, not both). Throws
+ * std::runtime_error if the image is not 2D, its size is not the view's, or a localizer's header does not give its
+ * view. */
 XRay
-ReadXRay(const std::string & image, const std::string & geometryFile, const std::string & matrixFile);
+ReadXRay(const std::string &       image,
+         const std::string &       geometryFile,
+         const std::string &       matrixFile,
+         const itk::ImageBase<3> * volume = nullptr);
+
+/** The view of a geometry file, built as pbdrr's single view of `--geometry FILE` is (MakeView(): the defaults, 512 x
+ * 512 pixels of 1.2 mm and the isocenter at the centre of volume, the room origin for a null volume; then the file),
+ * so that the DRR of a registration is the single view's at the found pose. */
+itk::DRRProjectionGeometry::Pointer
+XRayViewOfFile(const std::string & geometryFile, const itk::ImageBase<3> * volume);
 
 /** What a registration does: the rigid pose of the CT that makes its DRRs most like the X-rays.
  *

@@ -268,30 +268,6 @@ ReadViewsFromStream(std::istream & file, const std::string & path)
   return views;
 }
 
-Options
-ApplyView(const Options & options, const ViewSpec & view)
-{
-  Options result = options;
-  if (view.GantryDegrees)
-  {
-    result.gantryDegrees = view.GantryDegrees;
-    result.normal.reset();
-  }
-  const auto set = [](auto & field, const auto & value) {
-    if (value)
-    {
-      field = value;
-    }
-  };
-  set(result.normal, view.Normal);
-  set(result.viewUp, view.ViewUp);
-  set(result.isocenter, view.Isocenter);
-  set(result.sad, view.Sad);
-  set(result.sid, view.Sid);
-  set(result.detectorOffset, view.Offset);
-  return result;
-}
-
 std::string
 DescribeView(const ViewSpec & view, uint64_t index, const std::string & file)
 {

@@ -32,8 +32,9 @@
 
 namespace pbdrr
 {
-/** One view of a batch as given: the fields that set it over the command line's view (which supplies every field
- * left empty), its pose, its output name, or a view given whole (RTK's XML). */
+/** One view of a batch as given (a batch row): the fields that set it over the command line's view (which supplies
+ * every field left empty: MakeView(), pbdrrView.h), its pose, its output name, or a view given whole (RTK's XML). A
+ * row holds no detector size or pitch: every view of a batch has the command line's pixels. */
 struct ViewSpec
 {
   size_t                               Line{ 0 }; ///< its line in the views file (0: not from a file)
@@ -92,10 +93,6 @@ ReadCsvHeader(const std::vector<std::string> & cells,
 /** text without the spaces, tabs and carriage returns around it. */
 std::string
 TrimSpaces(const std::string & text);
-
-/** The options of one view: the command line's, with the view's fields over them (its gantry replaces --nrm). */
-Options
-ApplyView(const Options & options, const ViewSpec & view);
 
 /** What a view is called in messages: "view 7" and, from a file, "(views.csv line 9)". */
 std::string

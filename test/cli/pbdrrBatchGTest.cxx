@@ -21,6 +21,7 @@
 #include "pbdrrBatch.h"
 #include "pbdrrOptions.h"
 #include "pbdrrOutputFiles.h"
+#include "pbdrrView.h"
 #include "pbdrrViewList.h"
 
 #include "gtest/gtest.h"
@@ -124,28 +125,86 @@ TEST(ViewList, AViewsFileSetsWhatItsColumnsSay)
   EXPECT_TRUE(views[1].Output.empty());
 
   pbdrr::Options commandLine;
-  commandLine.gantryDegrees = 90.0;
+  commandLine.gantryDegrees = 30.0;
   commandLine.sad = 1000.0;
   commandLine.sid = 1500.0;
-  const pbdrr::Options first = pbdrr::ApplyView(commandLine, views[0]);
-  EXPECT_EQ(*first.sad, 800.0);
-  EXPECT_EQ(*first.sid, 1500.0);
-  EXPECT_TRUE(first.normal);
-  const pbdrr::Options second = pbdrr::ApplyView(commandLine, views[1]);
-  EXPECT_EQ(*second.sad, 1000.0);
-  EXPECT_FALSE(second.normal);
+  const auto first = pbdrr::MakeView(commandLine, views[0], nullptr);
+  EXPECT_EQ(first->GetSourceToIsocenterDistance(), 800.0);
+  EXPECT_EQ(first->GetSourceToDetectorDistance(), 1500.0);
+  EXPECT_EQ(first->GetNormal()[1], -1.0);
+  const auto second = pbdrr::MakeView(commandLine, views[1], nullptr);
+  EXPECT_EQ(second->GetSourceToIsocenterDistance(), 1000.0);
+  EXPECT_EQ(second->GetNormal(), pbdrr::MakeGeometry(commandLine, nullptr)->GetNormal());
   std::remove(path.c_str());
 }
 
 TEST(ViewList, AViewsGantryReplacesTheCommandLinesNormal)
 {
   pbdrr::Options commandLine;
-  commandLine.normal = std::array<double, 3>{ 1.0, 0.0, 0.0 };
+  commandLine.normal = std::array<double, 3>{ 0.0, 1.0, 0.0 };
   pbdrr::ViewSpec view;
-  view.GantryDegrees = 45.0;
-  const pbdrr::Options options = pbdrr::ApplyView(commandLine, view);
-  EXPECT_FALSE(options.normal);
-  EXPECT_EQ(*options.gantryDegrees, 45.0);
+  view.GantryDegrees = 0.0;
+  const auto geometry = pbdrr::MakeView(commandLine, view, nullptr);
+  EXPECT_EQ(geometry->GetNormal()[0], 1.0);
+  EXPECT_EQ(geometry->GetGantryAngleInDegrees(), 0.0);
+}
+
+// Issue 28: a batch dropped the geometry file's pixels and gantry. The view is built in layers, the same for every
+// mode: defaults, the file, the flags, the row; each changes only what it names.
+TEST(MakeView, ARowChangesOnlyWhatItNamesOverTheFileAndTheFlags)
+{
+  const std::string file =
+    WriteTextFile("view.txt", "cols 24\nrows 20\nspacing 2.4 2.2\ngantry 90\nsad 900\noffset 3 -1\nmirror 1\n");
+  pbdrr::Options options;
+  options.geometryFile = file;
+  options.sid = 1400.0;
+  const auto      single = pbdrr::MakeGeometry(options, nullptr);
+  pbdrr::ViewSpec row;
+  row.Sid = 1300.0;
+  const auto view = pbdrr::MakeView(options, row, nullptr);
+  for (const auto & geometry : { single, view })
+  {
+    EXPECT_EQ(geometry->GetDetectorSize()[0], 24u);
+    EXPECT_EQ(geometry->GetDetectorSize()[1], 20u);
+    EXPECT_EQ(geometry->GetDetectorSpacing()[0], 2.4);
+    EXPECT_EQ(geometry->GetDetectorSpacing()[1], 2.2);
+    EXPECT_EQ(geometry->GetGantryAngleInDegrees(), 90.0);
+    EXPECT_EQ(geometry->GetSourceToIsocenterDistance(), 900.0);
+    EXPECT_EQ(geometry->GetDetectorOffset()[0], 3.0);
+    EXPECT_TRUE(geometry->GetColumnsMirrored());
+  }
+  EXPECT_EQ(single->GetSourceToDetectorDistance(), 1400.0); // the flag over the file
+  EXPECT_EQ(view->GetSourceToDetectorDistance(), 1300.0);   // the row over the flag
+  // A flag overrides the file in every mode: --size over cols and rows, the file's spacing kept.
+  options.detectorSize = std::array<double, 2>{ 16.0, 12.0 };
+  const auto sized = pbdrr::MakeView(options, row, nullptr);
+  EXPECT_EQ(sized->GetDetectorSize()[0], 16u);
+  EXPECT_EQ(sized->GetDetectorSpacing()[0], 2.4);
+  std::remove(file.c_str());
+}
+
+TEST(MakeView, ASweepStartsAtTheFilesGantryAndRefusesItsNormal)
+{
+  const std::string gantry = WriteTextFile("gantry.txt", "gantry 90\n");
+  pbdrr::Options    options;
+  options.geometryFile = gantry;
+  EXPECT_EQ(pbdrr::SweepStartDegrees(options), 90.0);
+  options.gantryDegrees = 45.0;
+  EXPECT_EQ(pbdrr::SweepStartDegrees(options), 45.0);
+  const std::string normal = WriteTextFile("normal.txt", "nrm 0 1 0\n");
+  options.gantryDegrees.reset();
+  options.geometryFile = normal;
+  try
+  {
+    pbdrr::SweepStartDegrees(options);
+    ADD_FAILURE() << "a sweep over the file's nrm must be refused";
+  }
+  catch (const pbdrr::UsageError & e)
+  {
+    EXPECT_NE(std::string(e.what()).find("nrm in " + normal), std::string::npos) << e.what();
+  }
+  std::remove(gantry.c_str());
+  std::remove(normal.c_str());
 }
 
 TEST(ViewList, BadFilesNameTheirLine)

@@ -260,3 +260,28 @@ TEST(PolicyRegistry, TheDefaultControlVariateIsAutoWhereItAppliesAndOffElsewhere
   EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--control-variate", "auto", "--kernel", "tent" }),
             "--control-variate needs --kernel box (its coarse image is the box model's)");
 }
+
+// One declaration per option (issue 28): each is in pbdrr --help and in the fuzzers' dictionary, its short form too.
+TEST(OptionDeclarations, EachIsInTheHelpAndTheFuzzDictionary)
+{
+  const std::string     help = pbdrr::HelpText();
+  const std::string     optionsDictionary = ReadProjectFile("test/fuzz/Options.dict");
+  std::set<std::string> names;
+  for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
+  {
+    EXPECT_TRUE(names.insert(declaration.Name).second) << declaration.Name << " is declared twice";
+    EXPECT_EQ(declaration.Name.rfind("--", 0), 0u) << declaration.Name;
+    EXPECT_TRUE(declaration.Modes & pbdrr::OptionModes::Every) << declaration.Name << " applies to no mode";
+    for (const std::string & form : { declaration.Name, declaration.Short })
+    {
+      if (form.empty() || form == "--output") // --output is -o's long form, which the help does not repeat
+      {
+        continue;
+      }
+      EXPECT_TRUE(help.find("  " + form) != std::string::npos || help.find(", " + form) != std::string::npos)
+        << "pbdrr --help must list " << form;
+      EXPECT_NE(optionsDictionary.find("\"" + form + "\\x00\""), std::string::npos)
+        << "test/fuzz/Options.dict must hold " << form;
+    }
+  }
+}

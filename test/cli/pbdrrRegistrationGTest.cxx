@@ -18,12 +18,15 @@
 // pbdrr register's engine (pbdrrRegistration): the similarity, and the pose it finds on X-rays rendered at a known pose
 // of an asymmetric phantom, seen by a CT localizer (a lateral scout) and by an AP cone beam.
 #include "pbdrrRegistration.h"
+#include "pbdrrView.h"
 
 #include "itkEuler3DTransform.h"
 #include "itkExactDRRImageFilter.h"
 #include "gtest/gtest.h"
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <vector>
 
 namespace
@@ -178,4 +181,29 @@ TEST(PbdrrRegistration, MaxSecondsStopsWithTheBestPoseSoFar)
     EXPECT_TRUE(std::isfinite(component));
   }
   EXPECT_EQ(result.FinalDRRs.size(), 1u);
+}
+
+// Issue 28: an X-ray's geometry file gives the view a single view of `pbdrr CT --geometry FILE` renders (MakeView():
+// 512 x 512 pixels of 1.2 mm and the CT's centre where the file is silent), not DRRProjectionGeometry's own defaults
+// (256 x 256 pixels of 1 mm about the room origin).
+TEST(XRayView, AGeometryFileGivesTheSingleViewsView)
+{
+  const std::string path = ::testing::TempDir() + "pbdrrRegistrationGTest_view.txt";
+  {
+    std::ofstream file(path);
+    file << "gantry 90\nsad 700\n";
+  }
+  const auto     volume = MakePhantom();
+  const auto     view = pbdrr::XRayViewOfFile(path, volume);
+  pbdrr::Options single;
+  single.geometryFile = path;
+  const auto reference = pbdrr::MakeGeometry(single, volume);
+  EXPECT_EQ(view->GetIsocenter(), reference->GetIsocenter());
+  EXPECT_EQ(view->GetIsocenter(), GeometryType::ComputeImageCenter(volume));
+  EXPECT_EQ(view->GetDetectorSize(), reference->GetDetectorSize());
+  EXPECT_EQ(view->GetDetectorSpacing(), reference->GetDetectorSpacing());
+  EXPECT_EQ(view->GetDetectorSpacing()[0], pbdrr::DefaultDetectorSpacing);
+  EXPECT_EQ(view->GetNormal(), reference->GetNormal());
+  EXPECT_EQ(view->GetSourceToIsocenterDistance(), 700.0);
+  std::remove(path.c_str());
 }
