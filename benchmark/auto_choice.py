@@ -85,8 +85,9 @@ class Case:
             self.seeds = [int(s) for s in env("BATCH_SEEDS", "1").split()]
         else:
             raise SystemExit("unknown case " + name)
-        # the most points of any run: a setting that needs more is timed at NMAX (its time a lower bound)
-        self.nmax = int(float(env("NMAX", "") or (self.n0 * (10 if self.batch else 100))))
+        # the error runs go up to min(NMAX, 100 N0) points; a setting that needs more than NMAX is timed at NMAX (its
+        # time a lower bound)
+        self.nmax = int(float(env("NMAX", "") or (self.n0 * (10 if self.batch else 200))))
         if not self.input or not os.path.exists(self.input):
             raise SystemExit("auto_choice.py: %s: no input (%r)" % (name, self.input))
 
@@ -200,7 +201,7 @@ class Case:
     def equal_error(self, setting, target2):
         """NRMSE^2 at N0, then at the N the measurements so far predict (until one is within 20% of it; at most
         four N), and the N at equal error."""
-        lo, hi = self.n0 / 30, self.nmax
+        lo, hi = self.n0 / 30, min(self.nmax, self.n0 * 100)
         clamp = lambda n: int(round(min(max(n, lo), hi), -4))
         pts = [self.measure(setting, self.n0)]
         nstar = clamp(self.n0 * pts[0]["nrmse2"] / target2)
@@ -357,8 +358,64 @@ def stage_fit(out, case):
     return {"t_pt_ns": x[0] * 1e3, "R": dict(zip(names, x[1:])), "runs": len(rows)}
 
 
+def calibrate(out, rounds):
+    """the cost model's constants on the chest: per setting, the -v stage times and the CPU time of a single view and
+    of a CAL_VIEWS-view batch at two N (interleaved rounds); per setting a line stage = R_F + t_F * N."""
+    os.environ["BATCH_VIEWS"] = env("CAL_VIEWS", "36")
+    os.environ["BATCH_SCORED"] = os.environ["BATCH_VIEWS"]
+    single, batch = Case("chest", out), Case("batch", out)
+    single.dir = batch.dir = os.path.join(out, "calibrate")
+    os.makedirs(single.dir, exist_ok=True)
+    ns = [int(float(x)) for x in env("CAL_N", "1e6 2e7").split()]
+    rows = []
+    for r in range(rounds):
+        for c, kind in ((single, "view"), (batch, "batch")):
+            for s in SETTINGS[1:]:
+                for n in ns:
+                    tag = "c_%s_%s_%d_r%d" % (kind, s, n, r)
+                    text, line = c.run(c.view + ["--control-variate", s, "--samples", str(n), "--seed", "1", "-o",
+                                                 c.output("img")], tag, timed=True)
+                    w = line.split()
+                    st = Case.parse(text).get("stage", {})
+                    if kind == "batch":
+                        m = re.search(r"more views [0-9.]+ s, ([0-9.]+) ms each", text)
+                        per = float(m.group(1)) / 1000
+                        first = st.get("the first view (with the points' draw)")
+                    else:
+                        per, first = st.get("sample+project"), st.get("preprocess")
+                    rows.append({"kind": kind, "setting": s, "N": n, "round": r, "wall": float(w[0]),
+                                 "cpu": float(w[4]) + float(w[5]), "per_view": per, "first": first, "load": load1()})
+                    log("calibrate", kind, s, n, line, "per view %.4f" % per)
+    json.dump(rows, open(os.path.join(single.dir, "calibrate.json"), "w"), indent=1)
+    calreport(out)
+
+
+def calreport(out):
+    """the calibration's table: per kind and setting, medians at each N; lines CPU = C + t * N."""
+    rows = json.load(open(os.path.join(out, "calibrate", "calibrate.json")))
+    ns = sorted({x["N"] for x in rows})
+    views = int(env("CAL_VIEWS", "36"))
+    print("| run | setting | CPU s at %s | CPU s at %s | CPU: ns per point | wall s at %s | wall s at %s | "
+          "pbdrr -v: points' stage at %s, %s (s; batch: per view) |" % tuple([fmt_n(n) for n in ns] * 3))
+    print("|---|---|---:|---:|---:|---:|---:|---|")
+    for kind in ("view", "batch"):
+        for s in SETTINGS[1:]:
+            sel = lambda n, k: med([x[k] for x in rows if x["kind"] == kind and x["setting"] == s and x["N"] == n])
+            cpu = [sel(n, "cpu") for n in ns]
+            print("| %s | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.4f, %.4f |" % (
+                "single view" if kind == "view" else "%d-view batch" % views, s, cpu[0], cpu[1],
+                (cpu[1] - cpu[0]) / (ns[1] - ns[0]) * 1e9, sel(ns[0], "wall"), sel(ns[1], "wall"),
+                sel(ns[0], "per_view"), sel(ns[1], "per_view")))
+
+
 def main():
     case, out = sys.argv[1], sys.argv[2]
+    if case == "calibrate":
+        calibrate(out, int(env("RUNS", "2")))
+        return
+    if case == "calreport":
+        calreport(out)
+        return
     if case == "model":  # the cost model's constants from the error runs' stage times
         for c in ["chest", "head", "x2", "batch"]:
             if os.path.exists(os.path.join(out, c, "result.json")) or c == "batch":

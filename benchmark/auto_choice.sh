@@ -2,7 +2,9 @@
 # Does `pbdrr --control-variate auto` land within 20% of the fastest setting AT EQUAL ERROR? (issue 27, item 5;
 # docs/benchmark/auto_choice.md)
 #
-#   bash benchmark/auto_choice.sh [CASES...]      (default: chest head x2 batch)
+#   bash benchmark/auto_choice.sh [CASES...]      (default: chest head x2 batch; about 40 min on 2 busy cores)
+#   bash benchmark/auto_choice.sh calibrate       (the cost model's constants; then: auto_choice.py calreport OUT)
+#   /usr/bin/python3 benchmark/auto_choice.py report OUT    (the sections again, from OUT/CASE/result.json)
 #
 # Cases: chest  the LIDC chest (DICOM, 512 x 512 x 275), AP (--gantry 90), 256 x 256 pixels of 2.4 mm, SAD 1000, SID 1500
 #        head   the InVesalius head (scripts/invesalius-head.sh), demo.sh's lateral view: --gantry 0 --spacing 0.8 0.8,
@@ -15,13 +17,17 @@
 # NRMSE at two or three N, the fit NRMSE^2 = a / N + b and the N at auto's NRMSE; then RUNS interleaved rounds of
 # every setting at its N, whole processes under /usr/bin/time -f '%e s %M KB %U %S' (wall, peak RSS, user, system);
 # medians. NRMSE = RMSE / (max - min of the reference), as benchmark/scale.sh computes it.
+# calibrate: the chest, every setting but auto at CAL_N (default "1e6 2e7") points, a single view and a
+# CAL_VIEWS-view batch (default 36, every 10 degrees), RUNS interleaved rounds: CPU and wall times, -v stage times.
 # Markdown sections on stdout and in OUT/CASE/section.md; OUT/CASE/result.json holds every number. Finished
 # measurements are cached in OUT (err_*.json, the references): delete OUT/CASE to measure a case again.
 #
 # Environment: PBDRR (default /work/auto_bench/pbdrr), CHEST (default ../shared/data/ct/lidc-idri-0314-chest),
 # HEAD (default: extracted by scripts/invesalius-head.sh into OUT/head_ct), X2 (default ../scale_data/chest_x2.mha),
 # OUT (default /work/auto_bench/out), RUNS (timed rounds, default 3), SEEDS (default "1 2"), BATCH_SEEDS (default "1"),
-# BATCH_VIEWS (default 360), BATCH_SCORED (default 36), BATCH_N (points per batch view, default 2e6).
+# BATCH_VIEWS (default 360), BATCH_SCORED (default 36), BATCH_N (points per batch view, default 2e6), NMAX (the most
+# points of any timed run, default 200 x N0 for a single view, 10 x for the batch: a setting that needs more is timed at
+# NMAX and its time is a lower bound; the error runs stop at the smaller of NMAX and 100 x N0), CAL_N, CAL_VIEWS.
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)

@@ -121,11 +121,36 @@ public:
                  DRRPointRenderer::Result & result,
                  unsigned int               replicates = 2) const;
 
-  /** The factor `auto` picks for a volume and a view: the largest power of two (2 to 8) at which a coarse voxel is at
-   * most half as wide as the footprint of a detector pixel at the volume's centre, and 2 when none is (see
+  /** The factor `auto` picks for a volume and a view. One pose: the largest power of two (2 to 8) at which a coarse
+   * voxel is at most half as wide as the footprint of a detector pixel at the volume's centre, and 2 when none is (the
+   * fastest at equal error on the chest, the head and the 2x chest: docs/benchmark/auto_choice.md). Points kept for
+   * `poses` > 1 poses (a batch) pay the coarse image at every pose and the points once: the factor from that one up to
+   * 16 that the cost model (AutomaticCostModel) predicts fastest at the error of `samples` points at that one (see
    * docs/design.md, section 10). */
   static unsigned int
-  ChooseFactor(const DRRAttenuationVolume & volume, const DRRPointProjection & projection);
+  ChooseFactor(const DRRAttenuationVolume & volume,
+               const DRRPointProjection &   projection,
+               uint64_t                     samples = 10000000,
+               uint64_t                     poses = 1);
+
+  /** What `auto` predicts a render with points kept for several poses to cost, measured on a 2-core Xeon
+   * (benchmark/auto_choice.sh; only the ratio of the coarse image's cost to the points' decides). */
+  struct AutomaticCostModel
+  {
+    /** CPU ns per detector pixel and pose of the coarse image: a fixed part, and a part per coarse voxel crossed. */
+    static constexpr double PixelNanoseconds = 360.0;
+    /** CPU ns per detector pixel, pose and coarse voxel along the ray (the rays of one pixel at the default count). */
+    static constexpr double PixelNanosecondsPerCoarseVoxel = 4.4;
+    /** CPU ns to draw and splat one point of the residual. */
+    static constexpr double PointNanoseconds = 25.0;
+    /** CPU ns to splat a kept point at one more pose. */
+    static constexpr double KeptPointNanoseconds = 3.0;
+    /** M_r(F) grows as F to this power (measured on the chest: 0.078, 0.129, 0.198 of M at F = 2, 4, 8). */
+    static constexpr double ResidualMassExponent = 0.7;
+    /** The points needed at equal error grow as M_r to this power (2 for independent points; stratified sampling
+     * measured 1.6: 2 is the cautious choice). */
+    static constexpr double PointsExponent = 2.0;
+  };
 
   /** Bytes held by the split's tables (the coarse volume, and |r| if a consumer materialized it). */
   size_t

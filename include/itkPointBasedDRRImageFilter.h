@@ -143,6 +143,14 @@ public:
   itkBooleanMacro(ReusePoints);
   ///@}
 
+  ///@{
+  /** How many poses the kept points (ReusePoints) are expected to be rendered at (default 1): a batch's number of
+   * views. The automatic control variate weighs the coarse image, paid at every pose, against the points, drawn once
+   * (DRRControlVariate::ChooseFactor()); without ReusePoints it is ignored. A hint: every pose renders alike. */
+  itkSetClampMacro(ExpectedNumberOfPoses, uint64_t, 1, NumericTraits<uint64_t>::max());
+  itkGetConstMacro(ExpectedNumberOfPoses, uint64_t);
+  ///@}
+
   /** SetControlVariateFactor() value that lets the filter choose F for the volume and the view at every render
    * (DRRControlVariate::ChooseFactor()). */
   static constexpr unsigned int AutomaticControlVariateFactor = DRRControlVariate::AutomaticFactor;
@@ -294,6 +302,7 @@ private:
   std::vector<double>           m_WeightedChannelCovarianceSum; // sum over passes of N_k^2 C_k, per pixel and pair
   uint64_t                      m_PointsOnDetector{ 0 };
   bool                          m_ReusePoints{ false };
+  uint64_t                      m_ExpectedNumberOfPoses{ 1 };
   DRRPointCloud::Pointer        m_PointCloud;
   std::vector<ModifiedTimeType> m_PointCloudKey; // what the kept points were drawn from
   unsigned int                  m_NumberOfPointCloudDraws{ 0 };

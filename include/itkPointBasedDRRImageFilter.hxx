@@ -71,7 +71,10 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveControlVariateFactor
     {
       return m_DeclinedControlVariateFactor; // kept points: declined at the first pose, for every pose
     }
-    return DRRControlVariate::ChooseFactor(*this->GetAttenuationVolume(), this->MakeProjection());
+    return DRRControlVariate::ChooseFactor(*this->GetAttenuationVolume(),
+                                           this->MakeProjection(),
+                                           m_NumberOfSamples,
+                                           m_ReusePoints ? m_ExpectedNumberOfPoses : 1);
   }
   return m_ControlVariateFactor;
 }
@@ -417,6 +420,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
   os << indent << "PointsOnDetector: " << m_PointsOnDetector << std::endl;
   os << indent << "TotalNumberOfSamples: " << m_TotalNumberOfSamples << std::endl;
   os << indent << "ReusePoints: " << (m_ReusePoints ? "On" : "Off") << std::endl;
+  os << indent << "ExpectedNumberOfPoses: " << m_ExpectedNumberOfPoses << std::endl;
   os << indent << "PointCloud: ";
   if (m_PointCloud)
   {

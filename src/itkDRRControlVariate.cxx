@@ -195,7 +195,10 @@ DRRControlVariate::AddCoarseImage(const DRRPointProjection & projection,
 }
 
 unsigned int
-DRRControlVariate::ChooseFactor(const DRRAttenuationVolume & volume, const DRRPointProjection & projection)
+DRRControlVariate::ChooseFactor(const DRRAttenuationVolume & volume,
+                                const DRRPointProjection &   projection,
+                                uint64_t                     samples,
+                                uint64_t                     poses)
 {
   double centre[3];
   for (unsigned int a = 0; a < 3; ++a)
@@ -214,7 +217,28 @@ DRRControlVariate::ChooseFactor(const DRRAttenuationVolume & volume, const DRRPo
   {
     factor *= 2;
   }
-  return factor;
+  if (poses <= 1)
+  {
+    return factor;
+  }
+  // Kept points: the coarse image at every pose against the extra points a larger F needs for the same error.
+  using Model = AutomaticCostModel;
+  const double pixels = static_cast<double>(projection.GetNumberOfColumns()) * projection.GetNumberOfRows();
+  const double across = std::cbrt(static_cast<double>(volume.GetNumberOfVoxels())); // voxels along a ray, roughly
+  const double perPoint = Model::PointNanoseconds + static_cast<double>(poses - 1) * Model::KeptPointNanoseconds;
+  const auto   predicted = [&](unsigned int F) {
+    const double coarseImage = static_cast<double>(poses) * pixels *
+                               (Model::PixelNanoseconds + Model::PixelNanosecondsPerCoarseVoxel * across / F);
+    const double points = static_cast<double>(samples) * std::pow(static_cast<double>(F) / factor,
+                                                                  Model::ResidualMassExponent * Model::PointsExponent);
+    return coarseImage + perPoint * points;
+  };
+  unsigned int fastest = factor;
+  for (unsigned int F = 2 * factor; F <= 16; F *= 2)
+  {
+    fastest = predicted(F) < predicted(fastest) ? F : fastest;
+  }
+  return fastest;
 }
 
 size_t

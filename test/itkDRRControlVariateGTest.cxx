@@ -395,4 +395,44 @@ TEST(DRRControlVariate, AutomaticFactorIsDeclinedWhereTheResidualExceedsItsState
   EXPECT_LE(kept->GetControlVariate()->GetResidualMass(),
             FilterType::MaximumAutomaticResidualFraction * kept->GetControlVariate()->GetTotalMass());
 }
+
+// `auto` with kept points (a batch): one pose keeps the geometric factor; many poses of few points take a larger one
+// (the coarse image is paid per pose, the points once: docs/benchmark/auto_choice.md); very many points keep it; more
+// poses never give a smaller factor.
+TEST(DRRControlVariate, AutomaticFactorGrowsWithThePosesTheKeptPointsServe)
+{
+  auto volume = MakeMuVolume({ { 64, 64, 64 } }, 0.0f);
+  for (itk::SizeValueType v = 0; v < 64 * 64 * 64; ++v)
+  {
+    volume->GetBufferPointer()[v] = 0.02f + 0.001f * static_cast<float>((v * 2654435761u) % 7);
+  }
+  const auto geometry = AlignedParallelGeometry(64, 64, Pt(31.5, 31.5, 31.5));
+  const auto factorFor = [&](uint64_t poses, uint64_t samples) {
+    auto filter = MakeFilter(volume, geometry, FilterType::AutomaticControlVariateFactor);
+    filter->SetReusePoints(true);
+    filter->SetExpectedNumberOfPoses(poses);
+    filter->SetNumberOfSamples(samples);
+    filter->Update();
+    return filter->GetControlVariate() ? filter->GetControlVariate()->GetFactor() : 0u;
+  };
+  const unsigned int geometric = factorFor(1, 10000);
+  EXPECT_EQ(geometric, 2u) << "1 mm pixels over 1 mm voxels";
+  EXPECT_EQ(factorFor(1, 100), geometric) << "one pose: the geometric factor, whatever the points";
+  EXPECT_GT(factorFor(360, 10000), geometric) << "360 poses of 10^4 points: the coarse image dominates";
+  EXPECT_EQ(factorFor(360, 100000000), geometric) << "10^8 points: the points dominate";
+  unsigned int last = geometric;
+  for (const uint64_t poses : { 2, 10, 100, 1000, 10000 })
+  {
+    const unsigned int factor = factorFor(poses, 10000);
+    EXPECT_GE(factor, last) << poses << " poses";
+    last = factor;
+  }
+  // Without kept points the expected poses are ignored.
+  auto separate = MakeFilter(volume, geometry, FilterType::AutomaticControlVariateFactor);
+  separate->SetExpectedNumberOfPoses(360);
+  separate->SetNumberOfSamples(10000);
+  separate->Update();
+  ASSERT_NE(separate->GetControlVariate(), nullptr);
+  EXPECT_EQ(separate->GetControlVariate()->GetFactor(), geometric);
+}
 } // namespace

@@ -551,6 +551,8 @@ MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume
   }
   // One draw serves every view: view k's image is then a function of (seed, its view) alone.
   renderer.Points->SetReusePoints(!options.independentViews);
+  // Every view of the plan, whichever this run renders: the automatic factor is the same in every run and shard.
+  renderer.Points->SetExpectedNumberOfPoses(plan.Views.size());
   if (!options.independentViews && options.controlVariate == PointFilterType<TVolume>::AutomaticControlVariateFactor)
   {
     // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
