@@ -402,9 +402,9 @@ RenderView(const Options &                               options,
         // M_r as the sampler of the residual summed it: the split's own sum would be another pass over the CT.
         const double residualMass = pointBased->GetSampler()->GetTotalMass();
         std::cerr << "pbdrr: control variate F " << split->GetFactor() << ": residual mass M_r " << residualMass
-                  << " mm^2, M_r / M " << residualMass / split->GetTotalMass() << ", coarse image 2 x "
-                  << options.raysPerSide << " x " << options.raysPerSide << " antithetic ray pairs per pixel"
-                  << std::endl;
+                  << " mm^2, M_r / M " << residualMass / split->GetTotalMass() << ", coarse image "
+                  << (pointBased->GetComputeStandardError() ? 2 : 1) << " x " << options.raysPerSide << " x "
+                  << options.raysPerSide << " antithetic ray pairs per pixel" << std::endl;
       }
       const std::string statistics = pointBased->GetSampler()->GetStatisticsSummary();
       if (!statistics.empty())
