@@ -18,6 +18,8 @@
 #include "itkDRRLabelSelection.h"
 
 #include <algorithm>
+#include <functional>
+#include <memory>
 #include <sstream>
 
 namespace itk
@@ -69,12 +71,28 @@ DRRLabelSelection::Apply(const LabelType *      labels,
                          DRRAttenuationVolume & volume,
                          MultiThreaderBase *    threader)
 {
-  const uint64_t       numberOfVoxels = volume.GetNumberOfVoxels();
+  const uint64_t numberOfVoxels = volume.GetNumberOfVoxels();
+  // The labels present, per block of the volume's fixed partition, in parallel (a serial pass took seconds on a
+  // 577 M voxel CT), then merged.
+  const uint64_t                    numberOfBlocks = volume.GetNumberOfBlocks();
+  std::vector<std::vector<uint8_t>> presentInBlock(numberOfBlocks);
+  const auto                        forEachBlock = [&](const std::function<void(uint64_t, uint64_t, uint64_t)> & f) {
+    DRRAttenuationVolume::ParallelizeBlocks(
+      numberOfBlocks, [&](uint64_t b) { f(b, volume.GetBlockBegin(b), volume.GetBlockBegin(b + 1)); }, threader);
+  };
+  forEachBlock([&](uint64_t b, uint64_t begin, uint64_t end) {
+    presentInBlock[b].assign(numberOfLabelValues, 0);
+    for (uint64_t v = begin; v < end; ++v)
+    {
+      presentInBlock[b][labels[v]] = 1;
+    }
+  });
   std::vector<uint8_t> present(numberOfLabelValues, 0);
-  for (uint64_t v = 0; v < numberOfVoxels; ++v)
+  for (const auto & block : presentInBlock)
   {
-    present[labels[v]] = 1;
+    std::transform(present.begin(), present.end(), block.begin(), present.begin(), std::bit_or<uint8_t>());
   }
+  presentInBlock = {};
   VerifyPresent(keptLabels, present, "kept");
   VerifyPresent(droppedLabels, present, "dropped");
   // A label attenuates if kept (every label when none is listed) and not dropped.
@@ -103,12 +121,14 @@ DRRLabelSelection::Apply(const LabelType *      labels,
   }
   if (selected.size() < std::count(present.begin(), present.end(), uint8_t(1)))
   {
-    std::vector<uint8_t> keep(numberOfVoxels);
-    for (uint64_t v = 0; v < numberOfVoxels; ++v)
-    {
-      keep[v] = attenuates[labels[v]];
-    }
-    volume.ApplyVoxelMask(keep.data(), threader);
+    std::unique_ptr<uint8_t[]> keep(new uint8_t[numberOfVoxels]); // first touched by the threads that fill it
+    forEachBlock([&](uint64_t, uint64_t begin, uint64_t end) {
+      for (uint64_t v = begin; v < end; ++v)
+      {
+        keep[v] = attenuates[labels[v]];
+      }
+    });
+    volume.ApplyVoxelMask(keep.get(), threader);
   }
   if (!channels)
   {
@@ -128,11 +148,13 @@ DRRLabelSelection::Apply(const LabelType *      labels,
       channelOfLabel[selected[c]] = static_cast<uint8_t>(c);
     }
     std::vector<uint8_t> channelOfVoxel(numberOfVoxels);
-    for (uint64_t v = 0; v < numberOfVoxels; ++v)
-    {
-      // A voxel left out is air and never drawn: its channel does not matter.
-      channelOfVoxel[v] = channelOfLabel[labels[v]];
-    }
+    forEachBlock([&](uint64_t, uint64_t begin, uint64_t end) {
+      for (uint64_t v = begin; v < end; ++v)
+      {
+        // A voxel left out is air and never drawn: its channel does not matter.
+        channelOfVoxel[v] = channelOfLabel[labels[v]];
+      }
+    });
     volume.SetVoxelChannels(std::move(channelOfVoxel), static_cast<unsigned int>(selected.size()));
   }
   return selected;

@@ -28,6 +28,38 @@
 
 namespace pbdrr
 {
+namespace
+{
+using LabelImageType = BaseFilterType<VolumeType>::LabelImageType;
+using LabelPixelType = BaseFilterType<VolumeType>::LabelPixelType;
+
+/** A label file of signed or wide integers, read in its own type TFile (a byte per voxel for int8 labels, not the
+ * eight of a 64-bit read), each value checked to be a label (0 to 65535) and copied to a label image. */
+template <typename TFile>
+LabelImageType::Pointer
+LabelsFrom(const std::string & path)
+{
+  const auto file = itk::ReadImage<itk::Image<TFile, 3>>(path);
+  auto       labels = LabelImageType::New();
+  labels->CopyInformation(file);
+  labels->SetRegions(file->GetLargestPossibleRegion());
+  labels->Allocate();
+  const size_t  n = file->GetBufferedRegion().GetNumberOfPixels();
+  const TFile * in = file->GetBufferPointer();
+  for (size_t v = 0; v < n; ++v)
+  {
+    const int64_t value = static_cast<int64_t>(in[v]);
+    if (value < 0 || value > 65535)
+    {
+      throw UsageError("--labels: voxel " + std::to_string(v) + " of " + path + " has label " + std::to_string(value) +
+                       "; labels are 0 to 65535");
+    }
+    labels->GetBufferPointer()[v] = static_cast<LabelPixelType>(value);
+  }
+  return labels;
+}
+} // namespace
+
 BaseFilterType<VolumeType>::LabelImageType::Pointer
 ReadLabelImage(const std::string & path)
 {
@@ -56,24 +88,22 @@ ReadLabelImage(const std::string & path)
     throw UsageError("--labels: " + path + " is " + std::to_string(io->GetNumberOfDimensions()) +
                      "D; a label image is 3D, on the CT's grid");
   }
-  using WideImageType = itk::Image<int64_t, 3>;
-  const auto wide = itk::ReadImage<WideImageType>(path);
-  auto       labels = BaseFilterType<VolumeType>::LabelImageType::New();
-  labels->CopyInformation(wide);
-  labels->SetRegions(wide->GetLargestPossibleRegion());
-  labels->Allocate();
-  const size_t    n = wide->GetBufferedRegion().GetNumberOfPixels();
-  const int64_t * in = wide->GetBufferPointer();
-  for (size_t v = 0; v < n; ++v)
+  switch (type)
   {
-    if (in[v] < 0 || in[v] > 65535)
-    {
-      throw UsageError("--labels: voxel " + std::to_string(v) + " of " + path + " has label " + std::to_string(in[v]) +
-                       "; labels are 0 to 65535");
-    }
-    labels->GetBufferPointer()[v] = static_cast<BaseFilterType<VolumeType>::LabelPixelType>(in[v]);
+    case Component::UCHAR:
+    case Component::USHORT:
+      return itk::ReadImage<LabelImageType>(path); // every value a label: widened by the reader, no check
+    case Component::CHAR:
+      return LabelsFrom<int8_t>(path);
+    case Component::SHORT:
+      return LabelsFrom<int16_t>(path);
+    case Component::UINT:
+      return LabelsFrom<uint32_t>(path);
+    case Component::INT:
+      return LabelsFrom<int32_t>(path);
+    default:
+      return LabelsFrom<int64_t>(path); // 64-bit labels (a value beyond 2^63 reads negative, and is refused)
   }
-  return labels;
 }
 
 void
