@@ -248,11 +248,18 @@ protected:
   DRRPointRenderer::Result
   RenderPass(uint64_t samples, unsigned int pass);
 
-  /** Renders the kept points for the current pose, drawing them first if they are missing or stale. */
+  /** Renders the kept points for the current pose with the settings of pass 0, drawing them first if they are missing
+   * or stale. */
   DRRPointRenderer::Result
-  RenderKeptPoints();
+  RenderKeptPoints(DRRPointRenderer::Settings settings);
 
-  /** Settings of pass number `pass` (its seed derived from Seed and the pass). */
+  /** The settings' rules (at least one sample, strata, the control variate's kernel, weighting and factor), in one
+   * place: before every render, at Update() (ITK calls VerifyPreconditions() before GenerateData()), PrepareSampling()
+   * and Refine() (with its own number of samples). Throws an ExceptionObject naming the rule. */
+  void
+  VerifySettings(uint64_t samples) const;
+
+  /** Settings of pass number `pass` (its seed derived from Seed and the pass); VerifySettings() has passed. */
   DRRPointRenderer::Settings
   MakeSettings(uint64_t samples, unsigned int pass) const;
 
@@ -270,6 +277,9 @@ protected:
   /** Adds the control variate's coarse image for the current pose to a render of the residual (no-op without one). */
   void
   AddControlVariateImage(const DRRPointRenderer::Settings & settings, DRRPointRenderer::Result & result);
+  /** The base's checks (the input is set), then VerifySettings() with the number of samples. */
+  void
+  VerifyPreconditions() ITKv5_CONST override;
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 

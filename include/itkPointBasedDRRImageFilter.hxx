@@ -117,6 +117,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
   {
     itkExceptionMacro("no sampler set");
   }
+  this->VerifySettings(m_NumberOfSamples); // called before Update() too (pbdrr times it apart)
   const DRRAttenuationVolume * volume = &this->GetSamplingVolume();
   this->InitializeSampler(*volume);
   if (m_ControlVariateFactor == AutomaticControlVariateFactor && m_ControlVariate &&
@@ -165,8 +166,16 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::AddControlVariateImage(cons
 }
 
 template <typename TInputImage, typename TOutputImage>
-DRRPointRenderer::Settings
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t samples, unsigned int pass) const
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() ITKv5_CONST
+{
+  Superclass::VerifyPreconditions();
+  this->VerifySettings(m_NumberOfSamples);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifySettings(uint64_t samples) const
 {
   if (samples < DRRPointRenderer::MinimumNumberOfSamples)
   {
@@ -200,6 +209,12 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t sampl
     itkExceptionMacro("ControlVariateFactor 1 would make the coarse image the exact one: use 0 (off), 2 to "
                       << DRRControlVariate::MaximumFactor << " or AutomaticControlVariateFactor");
   }
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPointRenderer::Settings
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSettings(uint64_t samples, unsigned int pass) const
+{
   if (m_Sampler)
   {
     const uint64_t strata = DRRPointRenderer::RequestedNumberOfStrata(m_Sampler->GetTraits(), m_NumberOfStrata);
@@ -239,7 +254,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   DRRPointRenderer::Result result;
   if (m_ReusePoints && pass == 0)
   {
-    result = this->RenderKeptPoints();
+    result = this->RenderKeptPoints(settings);
   }
   else
   {
@@ -281,9 +296,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
 
 template <typename TInputImage, typename TOutputImage>
 DRRPointRenderer::Result
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints()
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints(DRRPointRenderer::Settings settings)
 {
-  DRRPointRenderer::Settings settings = this->MakeSettings(m_NumberOfSamples, 0);
   this->PrepareSampling();
   settings.SignedResidual = m_ControlVariate ? &m_ControlVariate->GetResidualVolume() : nullptr;
   settings.VoxelChannels = m_SamplerVolume->GetVoxelChannels();
@@ -361,6 +375,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::Refine(uint64_t additionalS
     itkExceptionMacro("the filter, its input, geometry, transform or sampler changed since the last Update(): call "
                       "Update() before Refine()");
   }
+  this->VerifySettings(additionalSamples);
   const DRRPointRenderer::Result result = this->RenderPass(additionalSamples, m_NumberOfPasses);
   const double                   n = static_cast<double>(additionalSamples);
   m_TotalNumberOfSamples += additionalSamples;

@@ -35,6 +35,7 @@
 
 #include "gtest/gtest.h"
 
+#include <functional>
 #include <cstring>
 #include <numeric>
 
@@ -900,6 +901,40 @@ TEST(PointBasedDRRProgress, EventsFireDuringTheRenderOnThePipelineThread)
     ASSERT_FALSE(seen.empty());
     EXPECT_EQ(seen.back(), 1.0f);
   }
+}
+
+// The settings' rules are checked once, in VerifyPreconditions(), which ITK's pipeline calls before any output
+// information or data: UpdateOutputInformation() alone refuses them, before a voxel is read. Refine() applies the same
+// rules to its own number of samples.
+TEST(PointBasedDRRImageFilter, SettingsAreRefusedByVerifyPreconditionsBeforeTheRender)
+{
+  using FilterType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  const std::vector<std::pair<std::string, std::function<void(FilterType *)>>> wrong{
+    { "zero samples", [](FilterType * f) { f->SetNumberOfSamples(0); } },
+    { "one stratum", [](FilterType * f) { f->SetNumberOfStrata(1); } },
+    { "factor 1", [](FilterType * f) { f->SetControlVariateFactor(1); } },
+    { "control variate with the tent kernel",
+      [](FilterType * f) {
+        f->SetControlVariateFactor(2);
+        f->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Tent);
+      } },
+  };
+  for (const auto & setting : wrong)
+  {
+    auto drr = FilterType::New();
+    drr->SetInput(volume);
+    drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0));
+    setting.second(drr);
+    EXPECT_THROW(drr->UpdateOutputInformation(), itk::ExceptionObject) << setting.first;
+  }
+  auto drr = FilterType::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0));
+  drr->SetNumberOfSamples(10000);
+  drr->Update();
+  EXPECT_THROW(drr->Refine(0), itk::ExceptionObject) << "Refine() with no samples";
+  EXPECT_EQ(drr->GetTotalNumberOfSamples(), 10000u) << "a refused Refine() adds nothing";
 }
 
 TEST(PointBasedDRRRefine, IsReproducibleCountsItsPointsAndRefusesStaleSettings)
