@@ -261,8 +261,10 @@ TEST(PolicyRegistry, TheDefaultControlVariateIsAutoWhereItAppliesAndOffElsewhere
             "--control-variate needs --kernel box (its coarse image is the box model's)");
 }
 
-// One declaration per option (issue 28): each is in pbdrr --help and in the fuzzers' dictionary, its short form too.
-TEST(OptionDeclarations, EachIsInTheHelpAndTheFuzzDictionary)
+// One declaration per option (issue 28): its help is made from it, each part declared (a help line, a placeholder for
+// its values, the default its help states); pbdrr --help lists it, its short form too, in lines that fit, and so
+// does the fuzzers' dictionary.
+TEST(OptionDeclarations, EachHasItsHelp)
 {
   const std::string     help = pbdrr::HelpText();
   const std::string     optionsDictionary = ReadProjectFile("test/fuzz/Options.dict");
@@ -272,6 +274,13 @@ TEST(OptionDeclarations, EachIsInTheHelpAndTheFuzzDictionary)
     EXPECT_TRUE(names.insert(declaration.Name).second) << declaration.Name << " is declared twice";
     EXPECT_EQ(declaration.Name.rfind("--", 0), 0u) << declaration.Name;
     EXPECT_TRUE(declaration.Modes & pbdrr::OptionModes::Every) << declaration.Name << " applies to no mode";
+    EXPECT_FALSE(declaration.Help.empty()) << declaration.Name << " is declared without its help";
+    EXPECT_FALSE(!declaration.Help.empty() && declaration.Help.back() == '\n')
+      << declaration.Name << ": its help ends with an empty line";
+    EXPECT_EQ(declaration.Placeholder.empty(), declaration.Values == 0)
+      << declaration.Name << ": an option with values names them in the help (Placeholder), a switch does not";
+    EXPECT_EQ(declaration.Default.empty(), declaration.Help.find("{default}") == std::string::npos)
+      << declaration.Name << ": a declared Default is stated in its help as {default}, and only then";
     for (const std::string & form : { declaration.Name, declaration.Short })
     {
       if (form.empty() || form == "--output") // --output is -o's long form, which the help does not repeat
@@ -283,5 +292,12 @@ TEST(OptionDeclarations, EachIsInTheHelpAndTheFuzzDictionary)
       EXPECT_NE(optionsDictionary.find("\"" + form + "\\x00\""), std::string::npos)
         << "test/fuzz/Options.dict must hold " << form;
     }
+  }
+  std::istringstream lines(help);
+  std::string        line;
+  while (std::getline(lines, line))
+  {
+    EXPECT_LE(line.size(), 120u) << "a line of pbdrr --help is wider than 120 columns: " << line;
+    EXPECT_EQ(line.find("{default}"), std::string::npos) << line;
   }
 }
