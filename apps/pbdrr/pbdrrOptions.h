@@ -140,9 +140,20 @@ constexpr unsigned Manifest = 4u;
 constexpr unsigned Every = SingleView | Batch | Manifest;
 } // namespace OptionModes
 
+/** The groups of pbdrr --help (OptionDeclaration::Group), in its order: HelpText() prints each group's heading, then
+ * its options in the order of OptionDeclarations(). */
+enum class OptionGroup
+{
+  Geometry,  ///< the view: distances, angles, detector
+  Rendering, ///< the estimate: samples, policies, exact projectors
+  Physics,   ///< what a voxel attenuates and what a pixel holds
+  Batches,   ///< many views or volumes in one run
+  Messages   ///< input, other outputs and messages
+};
+
 /** One option of pbdrr, declared once: ParseCommandLine() parses it from this declaration, a mode the option does not
- * apply to refuses it (CheckOptionsApply()), and the tests check --help and the fuzzers'
- * dictionary against the declarations (pbdrrPolicyRegistryGTest, pbdrrViewModesGTest). */
+ * apply to refuses it (CheckOptionsApply()), HelpText() prints its help, and the tests check the fuzzers' dictionary
+ * against the declarations (pbdrrPolicyRegistryGTest, pbdrrViewModesGTest). */
 struct OptionDeclaration
 {
   std::string Name;   ///< --name
@@ -151,8 +162,19 @@ struct OptionDeclaration
   unsigned    Modes;  ///< the modes it applies to (OptionModes bits)
   /** Why a batch or a manifest that it does not apply to refuses it (a single view says "for a batch of views"). */
   std::string Refusal;
+  OptionGroup Group; ///< the group of the help it is shown in
+  /** Its values in the help, named with their unit where they have one (MM, DEG, KEV, PER_MM, HU, KV), or the words it
+   * takes (F|auto|off, hu|mu); empty for a switch. */
+  std::string Placeholder;
+  /** The default the help states, where it states one: {default} in Help stands for it; empty otherwise. */
+  std::string Default;
+  /** Its help: one or more lines separated by '\n', printed as they break here, in the column of the help. */
+  std::string Help;
   /** Sets the option in options from its values; throws UsageError naming it and a bad value. */
   std::function<void(Options &, const std::vector<std::string> &)> Apply;
+  /** The lines listing the names it takes, from their registry (--kernel, --exact, ...), printed under Help; or empty.
+   */
+  std::string Choices{};
 };
 
 /** Every option of pbdrr, in the order of its help. */
@@ -188,7 +210,8 @@ ParseNumber(const std::string & text, const std::string & flag);
 std::string
 ExactReferenceName(itk::PointBasedDRREnums::ReconstructionKernel kernel);
 
-/** The text of pbdrr --help: the policy lists come from the registries (itkDRRPolicies.h, DRRSamplerFactory). */
+/** The text of pbdrr --help: the options from OptionDeclarations(), group by group (OptionGroup); the policy lists
+ * from the registries (itkDRRPolicies.h, DRRSamplerFactory). */
 std::string
 HelpText();
 } // namespace pbdrr

@@ -28,6 +28,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -261,17 +262,24 @@ TEST(PolicyRegistry, TheDefaultControlVariateIsAutoWhereItAppliesAndOffElsewhere
             "--control-variate needs --kernel box (its coarse image is the box model's)");
 }
 
-// One declaration per option (issue 28): each is in pbdrr --help and in the fuzzers' dictionary, its short form too.
-TEST(OptionDeclarations, EachIsInTheHelpAndTheFuzzDictionary)
+// One declaration per option (issue 28): its help is made from it, each part declared (a help line, a placeholder for
+// its values, the default its help states), and pbdrr --help lists it, its short form too, in lines that fit.
+TEST(OptionDeclarations, EachHasItsHelp)
 {
   const std::string     help = pbdrr::HelpText();
-  const std::string     optionsDictionary = ReadProjectFile("test/fuzz/Options.dict");
   std::set<std::string> names;
   for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
   {
     EXPECT_TRUE(names.insert(declaration.Name).second) << declaration.Name << " is declared twice";
     EXPECT_EQ(declaration.Name.rfind("--", 0), 0u) << declaration.Name;
     EXPECT_TRUE(declaration.Modes & pbdrr::OptionModes::Every) << declaration.Name << " applies to no mode";
+    EXPECT_FALSE(declaration.Help.empty()) << declaration.Name << " is declared without its help";
+    EXPECT_FALSE(!declaration.Help.empty() && declaration.Help.back() == '\n')
+      << declaration.Name << ": its help ends with an empty line";
+    EXPECT_EQ(declaration.Placeholder.empty(), declaration.Values == 0)
+      << declaration.Name << ": an option with values names them in the help (Placeholder), a switch does not";
+    EXPECT_EQ(declaration.Default.empty(), declaration.Help.find("{default}") == std::string::npos)
+      << declaration.Name << ": a declared Default is stated in its help as {default}, and only then";
     for (const std::string & form : { declaration.Name, declaration.Short })
     {
       if (form.empty() || form == "--output") // --output is -o's long form, which the help does not repeat
@@ -280,8 +288,93 @@ TEST(OptionDeclarations, EachIsInTheHelpAndTheFuzzDictionary)
       }
       EXPECT_TRUE(help.find("  " + form) != std::string::npos || help.find(", " + form) != std::string::npos)
         << "pbdrr --help must list " << form;
-      EXPECT_NE(optionsDictionary.find("\"" + form + "\\x00\""), std::string::npos)
-        << "test/fuzz/Options.dict must hold " << form;
     }
   }
+  std::istringstream lines(help);
+  std::string        line;
+  while (std::getline(lines, line))
+  {
+    EXPECT_LE(line.size(), 120u) << "a line of pbdrr --help is wider than 120 columns: " << line;
+    EXPECT_EQ(line.find("{default}"), std::string::npos) << line;
+  }
+}
+
+// The fuzzers' dictionary of the command line holds the options of the table, in its order, each followed by its
+// short form: its lines that start with a dash are exactly these (the values after them are kept by hand).
+TEST(OptionDeclarations, AreTheFuzzDictionary)
+{
+  std::string expected;
+  for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
+  {
+    for (const std::string & form : { declaration.Name, declaration.Short })
+    {
+      if (!form.empty())
+      {
+        expected += "\"" + form + "\\x00\"\n";
+      }
+    }
+  }
+  std::istringstream dictionary(ReadProjectFile("test/fuzz/Options.dict"));
+  std::string        options;
+  std::string        line;
+  while (std::getline(dictionary, line))
+  {
+    if (line.rfind("\"-", 0) == 0)
+    {
+      options += line + "\n";
+    }
+  }
+  EXPECT_EQ(options, expected) << "test/fuzz/Options.dict must list the options of OptionDeclarations(), in order; "
+                                  "replace its option lines with:\n"
+                               << expected;
+}
+
+// docs/options.md, the list of every option with its modes, is the table's: made here and compared whole.
+TEST(OptionDeclarations, AreTheOptionsPage)
+{
+  const std::map<pbdrr::OptionGroup, std::string> groups = { { pbdrr::OptionGroup::Geometry, "geometry" },
+                                                             { pbdrr::OptionGroup::Rendering, "rendering" },
+                                                             { pbdrr::OptionGroup::Physics, "physics" },
+                                                             { pbdrr::OptionGroup::Batches, "batches" },
+                                                             { pbdrr::OptionGroup::Messages, "messages" } };
+  // A cell of a Markdown table: its bars escaped.
+  const auto cell = [](const std::string & text) {
+    std::string escaped;
+    for (const char c : text)
+    {
+      escaped += c == '|' ? std::string("\\|") : std::string(1, c);
+    }
+    return escaped;
+  };
+  std::string expected =
+    "# The options of pbdrr and their modes\n\n"
+    "Made from `OptionDeclarations()` (`apps/pbdrr/pbdrrOptions.cxx`), which `pbdrr --help` prints; the test\n"
+    "`OptionDeclarations.AreTheOptionsPage` (`test/cli/pbdrrPolicyRegistryGTest.cxx`) fails on any difference and "
+    "prints\n"
+    "this page. A mode an option is not declared for refuses it and writes nothing: a single view with \"NAME: for a\n"
+    "batch of views\", a batch (`--angles`, `--views`, `--rtk-geometry`) or a manifest (`--manifest`) with the "
+    "message\n"
+    "of the last column. `--angles`, `--views` and `--rtk-geometry` make a run a batch, `--manifest` a manifest.\n\n"
+    "| option | values | group | single view | batch | manifest | refused with |\n"
+    "|---|---|---|---|---|---|---|\n";
+  std::map<unsigned, size_t> taken; // options per mode
+  for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
+  {
+    const auto mode = [&](unsigned bit) {
+      taken[bit] += (declaration.Modes & bit) ? 1 : 0;
+      return std::string((declaration.Modes & bit) ? "yes" : "refused");
+    };
+    expected += "| `" + declaration.Name + "`" + (declaration.Short.empty() ? "" : ", `" + declaration.Short + "`") +
+                " | " + (declaration.Placeholder.empty() ? "" : "`" + cell(declaration.Placeholder) + "`") + " | " +
+                groups.at(declaration.Group) + " | " + mode(pbdrr::OptionModes::SingleView) + " | " +
+                mode(pbdrr::OptionModes::Batch) + " | " + mode(pbdrr::OptionModes::Manifest) + " | " +
+                cell(declaration.Refusal) + " |\n";
+  }
+  expected += "\n" + std::to_string(pbdrr::OptionDeclarations().size()) +
+              " options: " + std::to_string(taken[pbdrr::OptionModes::SingleView]) + " taken by a single view, " +
+              std::to_string(taken[pbdrr::OptionModes::Batch]) + " by a batch, " +
+              std::to_string(taken[pbdrr::OptionModes::Manifest]) + " by a manifest.\n";
+  EXPECT_EQ(ReadProjectFile("docs/options.md"), expected)
+    << "docs/options.md must be the table of OptionDeclarations(); replace it with:\n"
+    << expected;
 }
