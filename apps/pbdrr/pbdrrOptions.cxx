@@ -638,8 +638,8 @@ OptionDeclarations()
       OptionGroup::Rendering,
       "K",
       std::to_string(defaults.raysPerSide),
-      "with --exact: K x K rays per pixel (default {default}); with --control-variate: two\n"
-      "replicates of K x K antithetic ray pairs per pixel for the coarse image",
+      "with --exact: K x K rays per pixel (default {default}); with --control-variate: K x K\n"
+      "antithetic ray pairs per pixel for the coarse image (two replicates of them with --stderr)",
       [](Options & o, const Values & v) { o.raysPerSide = WholeNumber(v[0], "--ss", 1, 64); } },
     { "--input-units",
       "",
