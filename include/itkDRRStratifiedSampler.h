@@ -173,6 +173,10 @@ private:
   /** mu (1/mm) of the 64 voxels of group `group` (0 .. 7) of a brick, in Morton order, 0 outside the volume. */
   void
   FillGroupMu(const Brick & brick, uint64_t group, float * mu) const;
+  /** The box of voxels of group `group` (0 .. 7) of a brick: its first voxel and its size per axis, clipped to the
+   * volume (0 where the group lies beyond it). */
+  void
+  GroupBox(const Brick & brick, uint64_t group, uint64_t first[3], uint64_t count[3]) const;
   /** Asks the memory for the voxels of a group (FillGroupMu()'s box) ahead of the walk. */
   void
   PrefetchGroup(const Brick & brick, uint64_t group) const;

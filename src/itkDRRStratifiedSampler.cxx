@@ -315,14 +315,20 @@ DRRStratifiedSampler::CachedGroupMu(uint64_t brick, uint64_t group, Cursor & cur
 }
 
 void
-DRRStratifiedSampler::PrefetchGroup(const Brick & brick, uint64_t group) const
+DRRStratifiedSampler::GroupBox(const Brick & brick, uint64_t group, uint64_t first[3], uint64_t count[3]) const
 {
-  uint64_t first[3], count[3];
   for (unsigned int a = 0; a < 3; ++a)
   {
     first[a] = brick.Origin[a] * brickSide + 4 * ((group >> a) & 1u);
     count[a] = first[a] < m_Size[a] ? std::min<uint64_t>(4, m_Size[a] - first[a]) : 0;
   }
+}
+
+void
+DRRStratifiedSampler::PrefetchGroup(const Brick & brick, uint64_t group) const
+{
+  uint64_t first[3], count[3];
+  this->GroupBox(brick, group, first, count);
   m_Volume->PrefetchBox(first[0], first[1], first[2], count[0], count[1], count[2]);
 }
 
@@ -332,11 +338,7 @@ DRRStratifiedSampler::FillGroupMu(const Brick & brick, uint64_t group, float * m
   // Group g holds the Morton positions 64 g .. 64 g + 63: the 4 x 4 x 4 voxels at (4 (g & 1), 4 ((g >> 1) & 1),
   // 4 (g >> 2)) in the brick. Read as one box from the volume (clipped to it), then put in Morton order.
   uint64_t first[3], count[3];
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    first[a] = brick.Origin[a] * brickSide + 4 * ((group >> a) & 1u);
-    count[a] = first[a] < m_Size[a] ? std::min<uint64_t>(4, m_Size[a] - first[a]) : 0;
-  }
+  this->GroupBox(brick, group, first, count);
   std::fill(mu, mu + 64, 0.0f);
   if (count[0] == 0 || count[1] == 0 || count[2] == 0)
   {
