@@ -18,6 +18,7 @@
 #ifndef itkDRRAttenuationVolume_h
 #define itkDRRAttenuationVolume_h
 
+#include "itkDRRCompatibility.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "itkMatrix.h"
@@ -88,7 +89,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRAttenuationVolume, Object);
+  itkOverrideGetNameOfClassMacro(DRRAttenuationVolume);
 
   /** Builds the volume from input values (size[0] x size[1] x size[2], x fastest) through a transfer function, on
    * the threads of threader (null: platform threads of its own). Integer values spanning less than 65536 give keys and

@@ -18,6 +18,7 @@
 #ifndef itkDRRControlVariate_h
 #define itkDRRControlVariate_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRPointProjection.h"
 #include "itkDRRPointRenderer.h"
@@ -67,7 +68,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRControlVariate, Object);
+  itkOverrideGetNameOfClassMacro(DRRControlVariate);
 
   /** The factor that stands for "choose F for the volume and the view" (ChooseFactor()) in the settings of the filters
    * and of pbdrr. */

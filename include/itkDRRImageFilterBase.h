@@ -18,6 +18,7 @@
 #ifndef itkDRRImageFilterBase_h
 #define itkDRRImageFilterBase_h
 
+#include "itkDRRCompatibility.h"
 #include "itkImageToImageFilter.h"
 #include "itkTransform.h"
 #include "itkDRRAttenuationVolume.h"
@@ -69,7 +70,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRImageFilterBase, ImageToImageFilter);
+  itkOverrideGetNameOfClassMacro(DRRImageFilterBase);
 
   /** The 3D volume: HU, or mu in 1/mm (any scalar pixel type). */
   using InputImageType = TInputImage;
@@ -213,7 +214,7 @@ protected:
   EnlargeOutputRequestedRegion(DataObject * output) override;
   /** Input and output live in different spaces: nothing to compare. */
   void
-  VerifyInputInformation() ITKv5_CONST override
+  VerifyInputInformation() const override
   {}
 
   /** The affine map of the transform (identity without one); throws for a non-linear transform. */

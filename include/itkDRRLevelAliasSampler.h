@@ -18,6 +18,7 @@
 #ifndef itkDRRLevelAliasSampler_h
 #define itkDRRLevelAliasSampler_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRAliasTable.h"
 #include "itkDRRLevelSampler.h"
 
@@ -55,7 +56,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRLevelAliasSampler, DRRLevelSampler);
+  itkOverrideGetNameOfClassMacro(DRRLevelAliasSampler);
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;

@@ -18,6 +18,7 @@
 #ifndef itkDRRLevelSampler_h
 #define itkDRRLevelSampler_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRAttenuationLevels.h"
 #include "itkDRRPointSampler.h"
 
@@ -42,7 +43,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRLevelSampler, DRRPointSampler);
+  itkOverrideGetNameOfClassMacro(DRRLevelSampler);
 
   ///@{
   /** Number of levels mu is binned into for volumes without levels (non-integer input), 1 .. 2^24. Default 4096. */

@@ -18,6 +18,7 @@
 #ifndef itkDRRMaterialTable_h
 #define itkDRRMaterialTable_h
 
+#include "itkDRRCompatibility.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "PointBasedDRRExport.h"
@@ -104,7 +105,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRMaterialTable, Object);
+  itkOverrideGetNameOfClassMacro(DRRMaterialTable);
 
   /** Lowest photon energy of the mass attenuations, keV (xraylib 4.0 tabulates from 0.1 keV; 1 keV is below any
    * diagnostic beam). */

@@ -18,6 +18,7 @@
 #ifndef itkDRRMetropolisSampler_h
 #define itkDRRMetropolisSampler_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRAliasTable.h"
 #include "itkDRRLevelSampler.h"
 
@@ -58,7 +59,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRMetropolisSampler, DRRLevelSampler);
+  itkOverrideGetNameOfClassMacro(DRRMetropolisSampler);
 
   ///@{
   /** Steps discarded at the start of every chain. Default 0 (the chain starts in its stationary law). */

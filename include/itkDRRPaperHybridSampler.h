@@ -18,6 +18,7 @@
 #ifndef itkDRRPaperHybridSampler_h
 #define itkDRRPaperHybridSampler_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRLevelSampler.h"
 
 #include <sstream>
@@ -56,7 +57,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRPaperHybridSampler, DRRLevelSampler);
+  itkOverrideGetNameOfClassMacro(DRRPaperHybridSampler);
 
   ///@{
   /** Russian roulette survival probability q in [0, 1]. Default 0.1. */

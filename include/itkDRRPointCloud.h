@@ -18,6 +18,7 @@
 #ifndef itkDRRPointCloud_h
 #define itkDRRPointCloud_h
 
+#include "itkDRRCompatibility.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "itkPointBasedDRREnums.h"
@@ -63,7 +64,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRPointCloud, Object);
+  itkOverrideGetNameOfClassMacro(DRRPointCloud);
 
   /** How the points were drawn: what a render of them needs besides the points. */
   struct Description

@@ -18,6 +18,7 @@
 #ifndef itkDRRPointSampler_h
 #define itkDRRPointSampler_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRPhiloxRandom.h"
 #include "itkDRRPointProjection.h"
@@ -66,7 +67,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRPointSampler, Object);
+  itkOverrideGetNameOfClassMacro(DRRPointSampler);
 
   /** Builds the sampling tables for a volume. The volume must outlive the sampler's use. */
   virtual void

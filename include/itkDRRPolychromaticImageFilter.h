@@ -18,6 +18,7 @@
 #ifndef itkDRRPolychromaticImageFilter_h
 #define itkDRRPolychromaticImageFilter_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRMaterialTable.h"
 #include "itkDRRXRaySpectrum.h"
 #include "itkImageToImageFilter.h"
@@ -78,7 +79,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRPolychromaticImageFilter, ImageToImageFilter);
+  itkOverrideGetNameOfClassMacro(DRRPolychromaticImageFilter);
 
   ///@{
   /** The material table: channel m is its material m. Required. */

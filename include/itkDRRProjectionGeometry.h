@@ -18,6 +18,7 @@
 #ifndef itkDRRProjectionGeometry_h
 #define itkDRRProjectionGeometry_h
 
+#include "itkDRRCompatibility.h"
 #include "itkImageBase.h"
 #include "itkMatrix.h"
 #include "itkObject.h"
@@ -81,7 +82,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRProjectionGeometry, Object);
+  itkOverrideGetNameOfClassMacro(DRRProjectionGeometry);
 
   /** A point of the room (the volume's physical LPS frame), mm. */
   using PointType = Point<double, 3>;

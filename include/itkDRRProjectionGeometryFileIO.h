@@ -18,6 +18,7 @@
 #ifndef itkDRRProjectionGeometryFileIO_h
 #define itkDRRProjectionGeometryFileIO_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRProjectionGeometry.h"
 
 #include <istream>
@@ -79,7 +80,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRProjectionGeometryFileIO, Object);
+  itkOverrideGetNameOfClassMacro(DRRProjectionGeometryFileIO);
 
   /** The geometry read or written. */
   using GeometryType = DRRProjectionGeometry;

@@ -18,6 +18,7 @@
 #ifndef itkDRRProjectionMatrixFileIO_h
 #define itkDRRProjectionMatrixFileIO_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRProjectionGeometry.h"
 #include "PointBasedDRRExport.h"
 
@@ -56,7 +57,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRProjectionMatrixFileIO, Object);
+  itkOverrideGetNameOfClassMacro(DRRProjectionMatrixFileIO);
 
   /** The matrix read or written. */
   using MatrixType = DRRProjectionGeometry::ProjectionMatrixType;

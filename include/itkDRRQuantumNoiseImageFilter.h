@@ -18,6 +18,7 @@
 #ifndef itkDRRQuantumNoiseImageFilter_h
 #define itkDRRQuantumNoiseImageFilter_h
 
+#include "itkDRRCompatibility.h"
 #include "itkImageToImageFilter.h"
 
 namespace itk
@@ -59,7 +60,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRQuantumNoiseImageFilter, ImageToImageFilter);
+  itkOverrideGetNameOfClassMacro(DRRQuantumNoiseImageFilter);
 
   /** Largest NumberOfPhotons: 10^12 per pixel. */
   static constexpr double MaximumNumberOfPhotons = 1e12;

@@ -18,6 +18,7 @@
 #ifndef itkDRRRTKGeometryFileIO_h
 #define itkDRRRTKGeometryFileIO_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRProjectionGeometry.h"
 #include "itkMatrix.h"
 #include "PointBasedDRRExport.h"
@@ -75,7 +76,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRRTKGeometryFileIO, Object);
+  itkOverrideGetNameOfClassMacro(DRRRTKGeometryFileIO);
 
   /** The views read. */
   using GeometryListType = std::vector<DRRProjectionGeometry::Pointer>;

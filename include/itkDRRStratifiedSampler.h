@@ -18,6 +18,7 @@
 #ifndef itkDRRStratifiedSampler_h
 #define itkDRRStratifiedSampler_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRPointSampler.h"
 
 #include <memory>
@@ -72,7 +73,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRStratifiedSampler, DRRPointSampler);
+  itkOverrideGetNameOfClassMacro(DRRStratifiedSampler);
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;

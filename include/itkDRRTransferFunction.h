@@ -18,6 +18,7 @@
 #ifndef itkDRRTransferFunction_h
 #define itkDRRTransferFunction_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRMaterialTable.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
@@ -69,7 +70,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRTransferFunction, Object);
+  itkOverrideGetNameOfClassMacro(DRRTransferFunction);
 
   ///@{
   /** The mode: Natural (default), PiecewiseLinear, Identity (input already mu in 1/mm) or Materials (needs a

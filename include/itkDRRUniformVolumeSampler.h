@@ -18,6 +18,7 @@
 #ifndef itkDRRUniformVolumeSampler_h
 #define itkDRRUniformVolumeSampler_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRPointSampler.h"
 
 namespace itk
@@ -47,7 +48,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRUniformVolumeSampler, DRRPointSampler);
+  itkOverrideGetNameOfClassMacro(DRRUniformVolumeSampler);
 
   void
   Initialize(const DRRAttenuationVolume & volume) override;

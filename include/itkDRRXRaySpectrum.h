@@ -18,6 +18,7 @@
 #ifndef itkDRRXRaySpectrum_h
 #define itkDRRXRaySpectrum_h
 
+#include "itkDRRCompatibility.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "PointBasedDRRExport.h"
@@ -73,7 +74,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(DRRXRaySpectrum, Object);
+  itkOverrideGetNameOfClassMacro(DRRXRaySpectrum);
 
   /** Density of the aluminium filter of SetKramers(), g/cm^3. */
   static constexpr double AluminiumDensityInGramsPerCubicCentimetre = 2.699;

@@ -18,6 +18,7 @@
 #ifndef itkExactDRRImageFilter_h
 #define itkExactDRRImageFilter_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRImageFilterBase.h"
 
 namespace itk
@@ -52,7 +53,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(ExactDRRImageFilter, DRRImageFilterBase);
+  itkOverrideGetNameOfClassMacro(ExactDRRImageFilter);
 
   ///@{
   /** Box (default): Siddon through the piecewise-constant model. Tent: exact trilinear integral. */

@@ -18,6 +18,7 @@
 #ifndef itkPointBasedDRRImageFilter_h
 #define itkPointBasedDRRImageFilter_h
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRImageFilterBase.h"
 #include "itkDRRControlVariate.h"
 #include "itkDRRPointSampler.h"
@@ -68,7 +69,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(PointBasedDRRImageFilter, DRRImageFilterBase);
+  itkOverrideGetNameOfClassMacro(PointBasedDRRImageFilter);
 
   using typename Superclass::OutputImageType;
   /** The sampler policy's base class. */

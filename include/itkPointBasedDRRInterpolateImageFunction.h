@@ -18,6 +18,7 @@
 #ifndef itkPointBasedDRRInterpolateImageFunction_h
 #define itkPointBasedDRRInterpolateImageFunction_h
 
+#include "itkDRRCompatibility.h"
 #include "itkInterpolateImageFunction.h"
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkTransform.h"
@@ -65,16 +66,16 @@ namespace itk
  * \sa PointBasedDRRImageFilter, RayCastInterpolateImageFunction
  * \ingroup PointBasedDRR
  */
-template <typename TInputImage, typename TCoordRep = double>
+template <typename TInputImage, typename TCoordinate = double>
 class ITK_TEMPLATE_EXPORT PointBasedDRRInterpolateImageFunction
-  : public InterpolateImageFunction<TInputImage, TCoordRep>
+  : public InterpolateImageFunction<TInputImage, TCoordinate>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(PointBasedDRRInterpolateImageFunction);
 
   /** Standard class type aliases. */
   using Self = PointBasedDRRInterpolateImageFunction;
-  using Superclass = InterpolateImageFunction<TInputImage, TCoordRep>;
+  using Superclass = InterpolateImageFunction<TInputImage, TCoordinate>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
@@ -83,7 +84,7 @@ public:
   static_assert(InputImageDimension == 3, "the DRR interpolator takes a 3D volume");
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(PointBasedDRRInterpolateImageFunction, InterpolateImageFunction);
+  itkOverrideGetNameOfClassMacro(PointBasedDRRInterpolateImageFunction);
   /** Method for creation through the object factory. */
   itkNewMacro(Self);
 
@@ -95,11 +96,11 @@ public:
   /** Size of the input volume, voxels. */
   using SizeType = typename InputImageType::SizeType;
   /** The room -> CT transform (linear: rigid or affine), as for the ray caster. */
-  using TransformType = Transform<TCoordRep, 3, 3>;
+  using TransformType = Transform<TCoordinate, 3, 3>;
   /** A room point, mm. */
   using InputPointType = typename TransformType::InputPointType;
   /** The ray caster's voxel interpolator type (accepted, not used). */
-  using InterpolatorType = InterpolateImageFunction<TInputImage, TCoordRep>;
+  using InterpolatorType = InterpolateImageFunction<TInputImage, TCoordinate>;
   /** The projection rendered once per pose: line integrals on the detector grid. */
   using ProjectionImageType = Image<float, 2>;
   /** The filter that renders the projection. */

@@ -26,11 +26,11 @@
 
 namespace itk
 {
-template <typename TInputImage, typename TCoordRep>
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::PointBasedDRRInterpolateImageFunction()
+template <typename TInputImage, typename TCoordinate>
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::PointBasedDRRInterpolateImageFunction()
   : m_Filter(FilterType::New())
 {
-  static_assert(std::is_same<TCoordRep, double>::value, "the DRR filter takes a Transform<double, 3, 3>");
+  static_assert(std::is_same<TCoordinate, double>::value, "the DRR filter takes a Transform<double, 3, 3>");
   m_FocalPoint.Fill(0.0);
   m_Filter->SetReusePoints(true);
   m_Filter->SetSampler(DRRStratifiedSampler::New());
@@ -42,9 +42,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::PointBasedDRRInte
   m_Filter->SetMultiThreader(PlatformMultiThreader::New());
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetInputImage(const InputImageType * image)
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::SetInputImage(const InputImageType * image)
 {
   Superclass::SetInputImage(image);
   const std::lock_guard<std::mutex> lock(GetRenderMutex());
@@ -52,9 +52,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetInputImage(con
   this->Modified();
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetDRRFilter(FilterType * filter)
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::SetDRRFilter(FilterType * filter)
 {
   if (!filter)
   {
@@ -69,26 +69,26 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetDRRFilter(Filt
   this->Modified();
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 std::mutex &
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetRenderMutex()
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::GetRenderMutex()
 {
   static std::mutex mutex;
   return mutex;
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetDetectorGeometry(GeometryType * geometry)
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::SetDetectorGeometry(GeometryType * geometry)
 {
   m_Geometry = geometry;
   m_AutomaticDetector = geometry == nullptr;
   this->Modified();
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetDetectorFromImage(const ImageBase<3> * image)
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::SetDetectorFromImage(const ImageBase<3> * image)
 {
   if (!image)
   {
@@ -136,9 +136,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::SetDetectorFromIm
   this->SetDetectorGeometry(geometry);
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 auto
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetRadius() const -> SizeType
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::GetRadius() const -> SizeType
 {
   const InputImageType * input = this->GetInputImage();
   if (!input)
@@ -148,9 +148,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetRadius() const
   return input->GetLargestPossibleRegion().GetSize();
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 ModifiedTimeType
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetRenderTime() const
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::GetRenderTime() const
 {
   // Only what callers change between evaluations: the filter's settings reach it through GetDRRFilter(), which
   // marks this object modified; what Render() changes on the filter is not looked at here, so that other threads may
@@ -167,9 +167,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetRenderTime() c
   return latest;
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::UpdateProjection() const
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::UpdateProjection() const
 {
   const ModifiedTimeType wanted = this->GetRenderTime();
   if (wanted == m_RenderedTime.load(std::memory_order_acquire))
@@ -185,9 +185,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::UpdateProjection(
   m_RenderedTime.store(wanted, std::memory_order_release);
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::Render() const
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::Render() const
 {
   const InputImageType * input = this->GetInputImage();
   if (!input)
@@ -296,10 +296,10 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::Render() const
                   projection->GetBufferPointer() + projection->GetBufferedRegion().GetNumberOfPixels());
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 bool
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::AutomaticDetectorCovers(const PointType & centreInRoom,
-                                                                                       double            radius) const
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::AutomaticDetectorCovers(const PointType & centreInRoom,
+                                                                                         double            radius) const
 {
   if (!m_Geometry)
   {
@@ -325,10 +325,10 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::AutomaticDetector
          depth + radius <= m_Geometry->GetSourceToDetectorDistance();
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::BuildAutomaticDetector(const PointType & centreInRoom,
-                                                                                      double            radius) const
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::BuildAutomaticDetector(const PointType & centreInRoom,
+                                                                                        double            radius) const
 {
   DRRProjectionGeometry::VectorType towardsSource;
   DRRProjectionGeometry::PointType  isocenter;
@@ -366,9 +366,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::BuildAutomaticDet
   m_Geometry = geometry;
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 auto
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetProjection() const -> const ProjectionImageType *
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::GetProjection() const -> const ProjectionImageType *
 {
   this->UpdateProjection();
   const std::lock_guard<std::mutex> lock(GetRenderMutex());
@@ -381,9 +381,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::GetProjection() c
   return m_Filter->GetOutput();
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 auto
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::Evaluate(const PointType & point) const -> OutputType
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::Evaluate(const PointType & point) const -> OutputType
 {
   this->UpdateProjection();
   // CT -> room, then where the ray from the source through it meets the detector plane.
@@ -421,9 +421,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::Evaluate(const Po
          fc * ((1.0 - fr) * value(c + 1, r) + fr * value(c + 1, r + 1));
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 auto
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::EvaluateAtContinuousIndex(
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::EvaluateAtContinuousIndex(
   const ContinuousIndexType & index) const -> OutputType
 {
   PointType point;
@@ -431,9 +431,9 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::EvaluateAtContinu
   return this->Evaluate(point);
 }
 
-template <typename TInputImage, typename TCoordRep>
+template <typename TInputImage, typename TCoordinate>
 void
-PointBasedDRRInterpolateImageFunction<TInputImage, TCoordRep>::PrintSelf(std::ostream & os, Indent indent) const
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
   os << indent << "FocalPoint: " << m_FocalPoint << std::endl;

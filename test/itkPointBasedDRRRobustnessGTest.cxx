@@ -26,6 +26,7 @@
 // taken from the observed spread over seeds and the reference's own discretization error (the change from k / 2 to k
 // rays per pixel side) in the denominator.
 
+#include "itkDRRCompatibility.h"
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRRSamplerFactory.h"
@@ -212,7 +213,7 @@ public:
   using Superclass = itk::OutputWindow;
   using Pointer = itk::SmartPointer<Self>;
   itkNewMacro(Self);
-  itkTypeMacro(CapturingOutputWindow, OutputWindow);
+  itkOverrideGetNameOfClassMacro(CapturingOutputWindow);
 
   void
   DisplayText(const char * text) override

@@ -122,9 +122,8 @@ CoveredField(const GeometryType * geometry, const itk::ImageBase<3> * volume, co
   std::vector<uint8_t> mask(size[0] * size[1], 0);
   const bool           parallel = geometry->GetProjection() == itk::PointBasedDRREnums::Projection::Parallel;
   const auto           toIndex = [&](const GeometryType::PointType & room) {
-    itk::ContinuousIndex<double, 3> index;
-    volume->TransformPhysicalPointToContinuousIndex(inverse->TransformPoint(room), index);
-    return index;
+    // The overload that returns the index: ITK 6 marks the one that returns whether it is inside [[nodiscard]].
+    return volume->TransformPhysicalPointToContinuousIndex<double>(inverse->TransformPoint(room));
   };
   for (unsigned row = 0; row < size[1]; ++row)
   {

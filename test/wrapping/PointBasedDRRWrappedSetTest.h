@@ -30,6 +30,7 @@
 // compile without). Every test also checks that each base class, up to one ITK wraps itself, is wrapped here: SWIG
 // needs the base classes of a wrapped class wrapped.
 
+#include "itkDRRCompatibility.h"
 #include "itkDRRLevelAliasSampler.h"
 #include "itkDRRMetropolisSampler.h"
 #include "itkDRRPaperHybridSampler.h"
@@ -125,8 +126,8 @@ template <typename T, typename = void>
 struct IsInterpolator : std::false_type
 {};
 template <typename T>
-struct IsInterpolator<T, std::void_t<typename T::InputImageType, typename T::CoordRepType>>
-  : std::is_base_of<itk::InterpolateImageFunction<typename T::InputImageType, typename T::CoordRepType>, T>
+struct IsInterpolator<T, std::void_t<typename T::InputImageType, itk::DRRCoordinateTypeOf<T>>>
+  : std::is_base_of<itk::InterpolateImageFunction<typename T::InputImageType, itk::DRRCoordinateTypeOf<T>>, T>
 {};
 
 /** The quantum-noise filter: an image filter of line integrals, with no geometry. */
