@@ -167,7 +167,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::AddControlVariateImage(cons
 
 template <typename TInputImage, typename TOutputImage>
 void
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() ITKv5_CONST
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   this->VerifySettings(m_NumberOfSamples);
