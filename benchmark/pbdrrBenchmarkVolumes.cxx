@@ -180,7 +180,9 @@ WriteProjection(const Image & values, unsigned cols, unsigned rows, double spaci
 {
   auto image = ProjectionType::New();
   image->SetRegions(ProjectionType::SizeType{ { cols, rows } });
-  image->SetSpacing(spacing);
+  ProjectionType::SpacingType pixelSpacing;
+  pixelSpacing.Fill(spacing); // ITK 6 has no SetSpacing(double)
+  image->SetSpacing(pixelSpacing);
   image->Allocate();
   std::copy(values.begin(), values.end(), image->GetBufferPointer());
   Write(image.GetPointer(), path);

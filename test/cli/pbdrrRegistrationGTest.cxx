@@ -40,7 +40,9 @@ MakePhantom()
 {
   auto volume = pbdrr::VolumeType::New();
   volume->SetRegions(pbdrr::VolumeType::SizeType{ { 48, 40, 32 } });
-  volume->SetSpacing(2.0);
+  pbdrr::VolumeType::SpacingType spacing;
+  spacing.Fill(2.0); // ITK 6 has no SetSpacing(double)
+  volume->SetSpacing(spacing);
   double origin[3] = { -47.0, -39.0, -31.0 };
   volume->SetOrigin(origin);
   volume->Allocate();
