@@ -7,12 +7,12 @@ itk_module(PointBasedDRR
   DEPENDS
     ITKCommon
     ITKTransform
+    ITKImageGrid
   COMPILE_DEPENDS
     ITKImageFunction
   TEST_DEPENDS
     ITKTestKernel
     ITKGoogleTest
-    ITKImageGrid
     ITKOptimizers
     ITKRegistrationCommon
   DESCRIPTION

@@ -19,7 +19,7 @@
 #define itkDRRAttenuationVolume_h
 
 #include "itkDRRCompatibility.h"
-#include "itkObject.h"
+#include "itkDataObject.h"
 #include "itkObjectFactory.h"
 #include "itkMatrix.h"
 #include "itkPoint.h"
@@ -61,17 +61,23 @@ class DRRTransferFunction;
  * (GetNumberOfBlocks(), GetBlockBegin()) that depends on the size alone, never on the threads; per-block results are
  * merged in block order, so the volume, its levels and its sums are the same bits on any number of threads.
  *
- * \sa DRRImageFilterBase::GetAttenuationVolume(), DRRTransferFunction, DRRAttenuationLevels
+ * A data object of ITK's pipeline: the output of DRRImageToAttenuationVolumeFilter (the preprocessing stage) and an
+ * input of the DRR filters, which update it through the pipeline; its modified time is that of its last build, so
+ * whatever is derived from it (a sampler's tables, a control variate, kept points) is stale when older. It has no
+ * regions: a requested region is the whole volume.
+ *
+ * \sa DRRImageToAttenuationVolumeFilter, DRRImageFilterBase::GetAttenuationVolume(), DRRTransferFunction,
+ * DRRAttenuationLevels
  * \ingroup PointBasedDRR
  */
-class PointBasedDRR_EXPORT DRRAttenuationVolume : public Object
+class PointBasedDRR_EXPORT DRRAttenuationVolume : public DataObject
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRAttenuationVolume);
 
   /** Standard class type aliases. */
   using Self = DRRAttenuationVolume;
-  using Superclass = Object;
+  using Superclass = DataObject;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
   /** Grid size in voxels (x, y, z). */
@@ -248,6 +254,25 @@ public:
   {
     return m_NumberOfChannels;
   }
+  /** What the channel outputs of a render of this volume are: the label (label channels) or the material index
+   * (material channels) of each, in channel order; empty, the default, for no channel outputs. One entry with no voxel
+   * channels is a channel output equal to the projection. */
+  void
+  SetChannelLabels(std::vector<uint16_t> labels)
+  {
+    m_ChannelLabels = std::move(labels);
+    this->Modified();
+  }
+  /** The labels of the channel outputs (empty: none). */
+  const std::vector<uint16_t> &
+  GetChannelLabels() const
+  {
+    return m_ChannelLabels;
+  }
+
+  /** Releases everything: an empty volume (size 0), as before a build. ITK's pipeline calls it to release data. */
+  void
+  Initialize() override;
 
   /** Grid size in voxels (x, y, z). */
   const SizeType &
@@ -505,6 +530,7 @@ private:
   PointType                 m_Origin;
   std::vector<uint8_t>      m_VoxelChannels;
   unsigned int              m_NumberOfChannels{ 1 };
+  std::vector<uint16_t>     m_ChannelLabels;
 };
 } // namespace itk
 

@@ -22,6 +22,7 @@
 #include "itkImageToImageFilter.h"
 #include "itkTransform.h"
 #include "itkDRRAttenuationVolume.h"
+#include "itkDRRImageToAttenuationVolumeFilter.h"
 #include "itkDRRLabelSelection.h"
 #include "itkVectorImage.h"
 #include "itkDRRPointProjection.h"
@@ -51,8 +52,10 @@ namespace itk
  *   line-integral image per label in one render: GetChannelOutput(), a VectorImage with a component per label
  *   (GetChannelLabels()), and GetChannelCovarianceOutput(), the covariance of the components' estimates.
  *
- * The attenuation volume (mu per voxel) is computed once per input and transfer function and reused across updates
- * that change only the geometry or transform, as registration does.
+ * The attenuation model (DRRAttenuationVolume) is the output of a preprocessing stage,
+ * DRRImageToAttenuationVolumeFilter: the filter's own, fed with its input, label image, transfer function and label
+ * settings, or one shared between filters (SetAttenuationVolume()). ITK's pipeline rebuilds it only when one of those
+ * changed, not for updates that change only the geometry or the transform, as registration does.
  *
  * \sa PointBasedDRRImageFilter, ExactDRRImageFilter, DRRProjectionGeometry, DRRTransferFunction
  * \ingroup PointBasedDRR
@@ -120,11 +123,25 @@ public:
   itkGetConstObjectMacro(Transform, TransformType);
   ///@}
 
-  ///@{
-  /** Input value -> mu (1/mm). Default: natural, 60 keV. */
-  itkSetObjectMacro(TransferFunction, TransferFunctionType);
-  itkGetModifiableObjectMacro(TransferFunction, TransferFunctionType);
-  ///@}
+  /** Input value -> mu (1/mm). Default: natural, 60 keV. Held by the filter's preprocessing stage (not used with
+   * SetAttenuationVolume(), whose stage has its own). */
+  void
+  SetTransferFunction(TransferFunctionType * transfer)
+  {
+    m_AttenuationVolumeFilter->SetTransferFunction(transfer);
+  }
+  /** The transfer function. */
+  TransferFunctionType *
+  GetTransferFunction()
+  {
+    return m_AttenuationVolumeFilter->GetTransferFunction();
+  }
+  /** The transfer function. */
+  const TransferFunctionType *
+  GetTransferFunction() const
+  {
+    return m_AttenuationVolumeFilter->GetTransferFunction();
+  }
 
   ///@{
   /** What the output pixels hold: LineIntegral (default), Transmission, Gray8 or Gray16. */
@@ -154,21 +171,42 @@ public:
   ///@}
   /** Only voxels of these labels attenuate (empty, the default: every label). Each must be in the label image. */
   void
-  SetKeptLabels(const LabelListType & labels);
+  SetKeptLabels(const LabelListType & labels)
+  {
+    m_AttenuationVolumeFilter->SetKeptLabels(labels);
+  }
   /** The kept labels (empty: every label). */
-  itkGetConstReferenceMacro(KeptLabels, LabelListType);
+  const LabelListType &
+  GetKeptLabels() const
+  {
+    return m_AttenuationVolumeFilter->GetKeptLabels();
+  }
   /** Voxels of these labels do not attenuate (default none). Each must be in the label image. */
   void
-  SetDroppedLabels(const LabelListType & labels);
+  SetDroppedLabels(const LabelListType & labels)
+  {
+    m_AttenuationVolumeFilter->SetDroppedLabels(labels);
+  }
   /** The dropped labels. */
-  itkGetConstReferenceMacro(DroppedLabels, LabelListType);
+  const LabelListType &
+  GetDroppedLabels() const
+  {
+    return m_AttenuationVolumeFilter->GetDroppedLabels();
+  }
   ///@{
   /** Label channels (default off): one line-integral image per attenuating label, in increasing label order, from
    * the same render (GetChannelOutput()). Their sum is the projection (for the point-based filter, its fixed-point
    * sums are the projection's, exactly). Needs a label image. */
   void
-  SetLabelChannels(bool channels);
-  itkGetConstMacro(LabelChannels, bool);
+  SetLabelChannels(bool channels)
+  {
+    m_AttenuationVolumeFilter->SetLabelChannels(channels);
+  }
+  bool
+  GetLabelChannels() const
+  {
+    return m_AttenuationVolumeFilter->GetLabelChannels();
+  }
   itkBooleanMacro(LabelChannels);
   ///@}
   ///@{
@@ -176,12 +214,20 @@ public:
    * line-integral image of mu at the reference energy per material of its table (channel m: material m), the input of
    * DRRPolychromaticImageFilter. Not together with LabelChannels. */
   void
-  SetMaterialChannels(bool channels);
-  itkGetConstMacro(MaterialChannels, bool);
+  SetMaterialChannels(bool channels)
+  {
+    m_AttenuationVolumeFilter->SetMaterialChannels(channels);
+  }
+  bool
+  GetMaterialChannels() const
+  {
+    return m_AttenuationVolumeFilter->GetMaterialChannels();
+  }
   itkBooleanMacro(MaterialChannels);
   ///@}
-  /** The labels of the channels of the last update, in channel order (empty without channels). */
-  itkGetConstReferenceMacro(ChannelLabels, LabelListType);
+  /** The labels of the channels of the attenuation model rendered, in channel order (empty without channels). */
+  const LabelListType &
+  GetChannelLabels() const;
   /** The channel images of the last update with LabelChannels on: a component per channel (GetChannelLabels()), line
    * integrals (dimensionless) whatever the output mode; an empty image otherwise. */
   ChannelImageType *
@@ -191,11 +237,17 @@ public:
   ChannelImageType *
   GetChannelCovarianceOutput();
 
-  /** The attenuation model of the current input (built on demand). */
+  /** A shared attenuation model (optional): the output of a DRRImageToAttenuationVolumeFilter that other filters
+   * render too, in place of the input volume (not both); the pipeline updates it. Its stage holds the transfer function
+   * and the labels: this filter's are not used, and a label image or label setting on it is refused. */
+  itkSetInputMacro(AttenuationVolume, DRRAttenuationVolume);
+
+  /** The attenuation model rendered: the shared one, or the output of the filter's own stage, brought up to date now
+   * (ITK's pipeline: built only if its inputs or settings changed). */
   const DRRAttenuationVolume *
   GetAttenuationVolume();
 
-  /** Includes the geometry, transform and transfer function. */
+  /** Includes the geometry, transform and the preprocessing stage's settings (transfer function, labels). */
   ModifiedTimeType
   GetMTime() const override;
 
@@ -216,6 +268,9 @@ protected:
   void
   VerifyInputInformation() const override
   {}
+  /** An input volume or a shared attenuation model (one of them), and no label settings beside a shared model. */
+  void
+  VerifyPreconditions() const override;
 
   /** The affine map of the transform (identity without one); throws for a non-linear transform. */
   void
@@ -246,46 +301,21 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  void
-  BuildAttenuationVolume();
+  /** The preprocessing stage. */
+  using AttenuationVolumeFilterType = DRRImageToAttenuationVolumeFilter<InputImageType>;
+
   OutputPixelType *
   AllocateOutput(unsigned int index, size_t numberOfPixels);
-  /** The labels on the volume's grid, one per voxel: the label image's own buffer if it is on that grid, else its
-   * nearest-neighbour resampling, held in resampled. */
-  const LabelPixelType *
-  LabelsOnVolumeGrid(const InputImageType & input, std::vector<LabelPixelType> & resampled);
-  /** Sets a setting of the labels (kept, dropped, channels): marks the selection, and so the attenuation volume,
-   * changed if the value is new. */
-  template <typename TValue>
-  void
-  SetLabelSetting(TValue & member, const TValue & value);
-  /** Latest change of the label image or the label selection (0 without a label image and a selection). */
-  ModifiedTimeType
-  GetLabelTime() const;
-  /** Applies the labels to the volume being built (DRRLabelSelection). */
-  void
-  ApplyLabels(const InputImageType & input, DRRAttenuationVolume & volume);
+  /** The shared attenuation model, or null. */
+  const DRRAttenuationVolume *
+  GetSharedAttenuationVolume() const;
 
-  typename GeometryType::Pointer         m_Geometry;
-  typename TransformType::ConstPointer   m_Transform;
-  typename TransferFunctionType::Pointer m_TransferFunction;
-  OutputModeEnum                         m_OutputMode{ OutputModeEnum::LineIntegral };
-  double                                 m_WindowLevel{ 0.0 };
-  double                                 m_WindowWidth{ 0.0 };
-
-  DRRAttenuationVolume::Pointer m_AttenuationVolume;
-  const InputImageType *        m_AttenuationVolumeInput{ nullptr };
-  ModifiedTimeType              m_AttenuationVolumeInputTime{ 0 };
-  ModifiedTimeType              m_AttenuationVolumeTransferTime{ 0 };
-  ModifiedTimeType              m_AttenuationVolumeLabelTime{ 0 };
-  const LabelImageType *        m_AttenuationVolumeLabelImage{ nullptr };
-
-  LabelListType m_KeptLabels;
-  LabelListType m_DroppedLabels;
-  bool          m_LabelChannels{ false };
-  bool          m_MaterialChannels{ false };
-  LabelListType m_ChannelLabels;
-  TimeStamp     m_LabelSelectionTime; // the last change of the kept or dropped labels or of the channels
+  typename GeometryType::Pointer                m_Geometry;
+  typename TransformType::ConstPointer          m_Transform;
+  OutputModeEnum                                m_OutputMode{ OutputModeEnum::LineIntegral };
+  double                                        m_WindowLevel{ 0.0 };
+  double                                        m_WindowWidth{ 0.0 };
+  typename AttenuationVolumeFilterType::Pointer m_AttenuationVolumeFilter; // the filter's own preprocessing stage
 };
 } // namespace itk
 

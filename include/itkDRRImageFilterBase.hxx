@@ -30,9 +30,10 @@ namespace itk
 {
 template <typename TInputImage, typename TOutputImage>
 DRRImageFilterBase<TInputImage, TOutputImage>::DRRImageFilterBase()
-  : m_Geometry(GeometryType::New()), m_TransferFunction(TransferFunctionType::New())
+  : m_Geometry(GeometryType::New()), m_AttenuationVolumeFilter(AttenuationVolumeFilterType::New())
 {
-  this->SetNumberOfRequiredInputs(1);
+  // The input volume, or a shared attenuation model (VerifyPreconditions()).
+  this->SetNumberOfRequiredInputs(0);
   this->ProcessObject::SetOutput("Channels", this->MakeOutput("Channels"));
   this->ProcessObject::SetOutput("ChannelCovariance", this->MakeOutput("ChannelCovariance"));
 }
@@ -63,47 +64,6 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetChannelCovarianceOutput() -> C
 }
 
 template <typename TInputImage, typename TOutputImage>
-template <typename TValue>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::SetLabelSetting(TValue & member, const TValue & value)
-{
-  if (value != member)
-  {
-    member = value;
-    m_LabelSelectionTime.Modified(); // the attenuation volume is rebuilt
-    this->Modified();
-  }
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::SetKeptLabels(const LabelListType & labels)
-{
-  this->SetLabelSetting(m_KeptLabels, labels);
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::SetDroppedLabels(const LabelListType & labels)
-{
-  this->SetLabelSetting(m_DroppedLabels, labels);
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::SetMaterialChannels(bool channels)
-{
-  this->SetLabelSetting(m_MaterialChannels, channels);
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::SetLabelChannels(bool channels)
-{
-  this->SetLabelSetting(m_LabelChannels, channels);
-}
-
-template <typename TInputImage, typename TOutputImage>
 ModifiedTimeType
 DRRImageFilterBase<TInputImage, TOutputImage>::GetMTime() const
 {
@@ -116,11 +76,42 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetMTime() const
   {
     latest = std::max(latest, m_Transform->GetMTime());
   }
-  if (m_TransferFunction)
+  // The stage's settings and transfer function: a change there re-renders (the stage's own update then rebuilds the
+  // model). Its inputs are this filter's, which the pipeline compares itself.
+  return std::max(latest, m_AttenuationVolumeFilter->GetMTime());
+}
+
+template <typename TInputImage, typename TOutputImage>
+const DRRAttenuationVolume *
+DRRImageFilterBase<TInputImage, TOutputImage>::GetSharedAttenuationVolume() const
+{
+  return itkDynamicCastInDebugMode<const DRRAttenuationVolume *>(this->ProcessObject::GetInput("AttenuationVolume"));
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::VerifyPreconditions() const
+{
+  Superclass::VerifyPreconditions();
+  if (!this->GetSharedAttenuationVolume())
   {
-    latest = std::max(latest, m_TransferFunction->GetMTime());
+    if (!this->GetInput())
+    {
+      itkExceptionMacro("no input volume (SetInput()) and no attenuation volume (SetAttenuationVolume())");
+    }
+    return;
   }
-  return latest;
+  if (this->GetInput())
+  {
+    itkExceptionMacro("both an input volume and a shared attenuation volume are set: give one (the attenuation "
+                      "volume's filter takes the volume)");
+  }
+  if (this->GetLabelImage() || !this->GetKeptLabels().empty() || !this->GetDroppedLabels().empty() ||
+      this->GetLabelChannels() || this->GetMaterialChannels())
+  {
+    itkExceptionMacro("labels and channels belong to the shared attenuation volume's filter "
+                      "(DRRImageToAttenuationVolumeFilter), not to a filter given its output");
+  }
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -215,213 +206,28 @@ DRRImageFilterBase<TInputImage, TOutputImage>::EnlargeOutputRequestedRegion(Data
 }
 
 template <typename TInputImage, typename TOutputImage>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::BuildAttenuationVolume()
+const DRRAttenuationVolume *
+DRRImageFilterBase<TInputImage, TOutputImage>::GetAttenuationVolume()
 {
-  const InputImageType * input = this->GetInput();
-  if (!input)
+  if (const DRRAttenuationVolume * shared = this->GetSharedAttenuationVolume())
   {
-    itkExceptionMacro("no input volume");
+    const_cast<DRRAttenuationVolume *>(shared)->Update(); // through its source, if stale
+    return shared;
   }
-  const auto region = input->GetLargestPossibleRegion();
-  if (region.GetNumberOfPixels() == 0)
-  {
-    itkExceptionMacro("the input volume is empty (size " << region.GetSize() << ")");
-  }
-  if (input->GetBufferedRegion() != region)
-  {
-    itkExceptionMacro("the whole input volume must be buffered (buffered " << input->GetBufferedRegion() << ", largest "
-                                                                           << region << ")");
-  }
-
-  auto                           volume = DRRAttenuationVolume::New();
-  DRRAttenuationVolume::SizeType size;
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    size[a] = region.GetSize()[a];
-  }
-  DRRAttenuationVolume::MatrixType indexToPhysical;
-  for (unsigned int r = 0; r < 3; ++r)
-  {
-    for (unsigned int c = 0; c < 3; ++c)
-    {
-      indexToPhysical[r][c] = input->GetDirection()[r][c] * input->GetSpacing()[c];
-    }
-  }
-  typename InputImageType::PointType firstVoxel;
-  input->TransformIndexToPhysicalPoint(region.GetIndex(), firstVoxel);
-  DRRAttenuationVolume::PointType origin;
-  for (unsigned int r = 0; r < 3; ++r)
-  {
-    origin[r] = firstVoxel[r];
-  }
-  volume->SetIndexToPhysical(indexToPhysical, origin);
-
-  // On the filter's threads, as many as its work units.
-  MultiThreaderBase * threader = this->GetMultiThreader();
-  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  // The pixel container keeps the values alive: 16-bit CT is read in place, not copied.
-  volume->Build(input->GetBufferPointer(), size, *m_TransferFunction, threader, input->GetPixelContainer());
-  this->ApplyLabels(*input, *volume);
-  m_AttenuationVolume = volume;
-  m_AttenuationVolumeInput = input;
-  m_AttenuationVolumeInputTime = input->GetMTime();
-  m_AttenuationVolumeTransferTime = m_TransferFunction->GetMTime();
-  m_AttenuationVolumeLabelTime = this->GetLabelTime();
-  m_AttenuationVolumeLabelImage = this->GetLabelImage();
-}
-
-template <typename TInputImage, typename TOutputImage>
-ModifiedTimeType
-DRRImageFilterBase<TInputImage, TOutputImage>::GetLabelTime() const
-{
-  const LabelImageType * labels = this->GetLabelImage();
-  return std::max<ModifiedTimeType>(m_LabelSelectionTime.GetMTime(), labels ? labels->GetMTime() : 0);
+  AttenuationVolumeFilterType * stage = m_AttenuationVolumeFilter.GetPointer();
+  stage->SetInput(this->GetInput());
+  stage->SetLabelImage(this->GetLabelImage());
+  stage->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  stage->Update();
+  return stage->GetOutput();
 }
 
 template <typename TInputImage, typename TOutputImage>
 auto
-DRRImageFilterBase<TInputImage, TOutputImage>::LabelsOnVolumeGrid(const InputImageType &        input,
-                                                                  std::vector<LabelPixelType> & resampled)
-  -> const LabelPixelType *
+DRRImageFilterBase<TInputImage, TOutputImage>::GetChannelLabels() const -> const LabelListType &
 {
-  const LabelImageType * labels = this->GetLabelImage();
-  const auto             region = input.GetLargestPossibleRegion();
-  const auto             labelRegion = labels->GetLargestPossibleRegion();
-  if (labels->GetBufferedRegion() != labelRegion)
-  {
-    itkExceptionMacro("the whole label image must be buffered");
-  }
-  const double tolerance = 1e-4 * input.GetSpacing().GetVnlVector().min_value();
-  bool         sameGrid =
-    region.GetSize() == labelRegion.GetSize() &&
-    input.GetOrigin().EuclideanDistanceTo(labels->GetOrigin()) <= tolerance &&
-    (input.GetSpacing() - labels->GetSpacing()).GetNorm() <= tolerance &&
-    (input.GetDirection().GetVnlMatrix() - labels->GetDirection().GetVnlMatrix()).absolute_value_max() <= 1e-6;
-  const size_t numberOfVoxels = region.GetNumberOfPixels();
-  if (sameGrid)
-  {
-    return labels->GetBufferPointer();
-  }
-  itkWarningMacro("the label image (size "
-                  << labelRegion.GetSize() << ", spacing " << labels->GetSpacing() << ", origin " << labels->GetOrigin()
-                  << ") is not on the volume's grid (size " << region.GetSize() << ", spacing " << input.GetSpacing()
-                  << ", origin " << input.GetOrigin()
-                  << "): resampled onto it by nearest neighbour, label 0 outside it");
-  resampled.assign(numberOfVoxels, 0);
-  const auto size = region.GetSize();
-  size_t     inside = 0;
-  for (size_t v = 0; v < numberOfVoxels; ++v)
-  {
-    typename InputImageType::IndexType index;
-    index[0] = region.GetIndex()[0] + static_cast<IndexValueType>(v % size[0]);
-    index[1] = region.GetIndex()[1] + static_cast<IndexValueType>((v / size[0]) % size[1]);
-    index[2] = region.GetIndex()[2] + static_cast<IndexValueType>(v / (size[0] * size[1]));
-    typename InputImageType::PointType point;
-    input.TransformIndexToPhysicalPoint(index, point);
-    typename LabelImageType::IndexType labelIndex;
-    if (labels->TransformPhysicalPointToIndex(point, labelIndex))
-    {
-      resampled[v] = labels->GetPixel(labelIndex);
-      ++inside;
-    }
-  }
-  if (inside == 0)
-  {
-    itkExceptionMacro("the label image (size " << labelRegion.GetSize() << ", origin " << labels->GetOrigin()
-                                               << ") covers no voxel of the volume: it belongs to another volume");
-  }
-  return resampled.data();
-}
-
-template <typename TInputImage, typename TOutputImage>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::ApplyLabels(const InputImageType & input, DRRAttenuationVolume & volume)
-{
-  m_ChannelLabels.clear();
-  if (m_MaterialChannels)
-  {
-    const DRRMaterialTable * table = m_TransferFunction->GetMaterialTable();
-    if (m_TransferFunction->GetMode() != DRRTransferFunction::ModeEnum::Materials || !table)
-    {
-      itkExceptionMacro("material channels need the transfer function's Materials mode (SetMaterialTable())");
-    }
-    if (m_LabelChannels)
-    {
-      itkExceptionMacro("material channels and label channels cannot be rendered together");
-    }
-    const unsigned int K = table->GetNumberOfMaterials();
-    if (K > DRRLabelSelection::MaximumNumberOfChannels)
-    {
-      itkExceptionMacro("" << K << " materials are more channels than a render holds ("
-                           << DRRLabelSelection::MaximumNumberOfChannels << ")");
-    }
-    for (unsigned int m = 0; m < K; ++m)
-    {
-      m_ChannelLabels.push_back(static_cast<LabelPixelType>(m));
-    }
-    if (K > 1)
-    {
-      const InputPixelType * values = input.GetBufferPointer();
-      std::vector<uint8_t>   channels(volume.GetNumberOfVoxels());
-      const auto             materialOf = [&](double value) {
-        return static_cast<uint8_t>(std::max(0, m_TransferFunction->GetMaterialIndex(value)));
-      };
-      // CT in HU (integers, whatever the pixel type): one lookup per voxel in a table of the int16 range instead of a
-      // search of the table's rows; other values search.
-      constexpr int32_t    lowest = -32768;
-      std::vector<uint8_t> materialOfValue(65536);
-      for (int32_t value = lowest; value <= 32767; ++value)
-      {
-        materialOfValue[static_cast<size_t>(value - lowest)] = materialOf(value);
-      }
-      DRRAttenuationVolume::ParallelizeBlocks(
-        volume.GetNumberOfBlocks(),
-        [&](uint64_t block) {
-          const uint64_t end = volume.GetBlockBegin(block + 1);
-          for (uint64_t v = volume.GetBlockBegin(block); v < end; ++v)
-          {
-            const double value = static_cast<double>(values[v]);
-            const bool   tabled = value >= lowest && value <= 32767.0 && value == std::floor(value);
-            channels[v] =
-              tabled ? materialOfValue[static_cast<size_t>(static_cast<int32_t>(value) - lowest)] : materialOf(value);
-          }
-        },
-        this->GetMultiThreader());
-      volume.SetVoxelChannels(std::move(channels), K);
-    }
-  }
-  if (!this->GetLabelImage())
-  {
-    if (!m_KeptLabels.empty() || !m_DroppedLabels.empty() || m_LabelChannels)
-    {
-      itkExceptionMacro("kept or dropped labels and label channels need a label image (SetLabelImage())");
-    }
-    return;
-  }
-  std::vector<LabelPixelType> resampled;
-  const LabelPixelType *      labels = this->LabelsOnVolumeGrid(input, resampled);
-  const LabelListType         channelLabels =
-    DRRLabelSelection::Apply(labels, m_KeptLabels, m_DroppedLabels, m_LabelChannels, volume, this->GetMultiThreader());
-  if (m_LabelChannels)
-  {
-    m_ChannelLabels = channelLabels;
-  }
-}
-
-template <typename TInputImage, typename TOutputImage>
-const DRRAttenuationVolume *
-DRRImageFilterBase<TInputImage, TOutputImage>::GetAttenuationVolume()
-{
-  const InputImageType * input = this->GetInput();
-  if (!m_AttenuationVolume || input != m_AttenuationVolumeInput || !input ||
-      input->GetMTime() != m_AttenuationVolumeInputTime ||
-      m_TransferFunction->GetMTime() != m_AttenuationVolumeTransferTime ||
-      this->GetLabelTime() != m_AttenuationVolumeLabelTime || this->GetLabelImage() != m_AttenuationVolumeLabelImage)
-  {
-    this->BuildAttenuationVolume();
-  }
-  return m_AttenuationVolume.GetPointer();
+  const DRRAttenuationVolume * shared = this->GetSharedAttenuationVolume();
+  return (shared ? shared : m_AttenuationVolumeFilter->GetOutput())->GetChannelLabels();
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -528,7 +334,7 @@ void
 DRRImageFilterBase<TInputImage, TOutputImage>::WriteChannelOutputs(const std::vector<double> & channels,
                                                                    const std::vector<double> * covariance)
 {
-  const size_t K = m_ChannelLabels.size();
+  const size_t K = this->GetChannelLabels().size();
   for (ChannelImageType * output : { this->GetChannelOutput(), this->GetChannelCovarianceOutput() })
   {
     const bool   isCovariance = output == this->GetChannelCovarianceOutput();
@@ -586,17 +392,14 @@ DRRImageFilterBase<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Inde
   os << indent << "Geometry:" << std::endl;
   m_Geometry->Print(os, indent.GetNextIndent());
   os << indent << "Transform: " << (m_Transform ? m_Transform->GetNameOfClass() : "(none)") << std::endl;
-  os << indent << "TransferFunction:" << std::endl;
-  m_TransferFunction->Print(os, indent.GetNextIndent());
   os << indent << "OutputMode: " << m_OutputMode << std::endl;
   os << indent << "WindowLevel: " << m_WindowLevel << std::endl;
   os << indent << "WindowWidth: " << m_WindowWidth << std::endl;
-  os << indent << "LabelImage: " << (this->GetLabelImage() ? "set" : "(none)") << std::endl;
-  os << indent << "KeptLabels: " << DRRLabelSelection::ToString(m_KeptLabels) << std::endl;
-  os << indent << "DroppedLabels: " << DRRLabelSelection::ToString(m_DroppedLabels) << std::endl;
-  os << indent << "LabelChannels: " << (m_LabelChannels ? "On" : "Off") << std::endl;
-  os << indent << "MaterialChannels: " << (m_MaterialChannels ? "On" : "Off") << std::endl;
-  os << indent << "ChannelLabels: " << DRRLabelSelection::ToString(m_ChannelLabels) << std::endl;
+  os << indent << "AttenuationVolume: " << (this->GetSharedAttenuationVolume() ? "shared" : "its own stage's")
+     << std::endl;
+  os << indent << "AttenuationVolumeFilter:" << std::endl;
+  m_AttenuationVolumeFilter->Print(os, indent.GetNextIndent());
+  os << indent << "ChannelLabels: " << DRRLabelSelection::ToString(this->GetChannelLabels()) << std::endl;
 }
 } // namespace itk
 

@@ -21,6 +21,7 @@
 #include "itkDRRCompatibility.h"
 #include "itkDRRImageFilterBase.h"
 #include "itkDRRControlVariate.h"
+#include "itkDRRPassCombination.h"
 #include "itkDRRPointSampler.h"
 #include "itkDRRPointRenderer.h"
 
@@ -83,19 +84,31 @@ public:
 
   ///@{
   /** Number of points drawn (N, at least 1; 64-bit). Default DRRPointRenderer::DefaultNumberOfSamples (10^7). */
-  itkSetMacro(NumberOfSamples, uint64_t);
+  void
+  SetNumberOfSamples(uint64_t samples)
+  {
+    this->SetSamplingSetting(m_NumberOfSamples, samples);
+  }
   itkGetConstMacro(NumberOfSamples, uint64_t);
   ///@}
 
   ///@{
   /** Seed of the counter-based random streams. Default 0. */
-  itkSetMacro(Seed, uint64_t);
+  void
+  SetSeed(uint64_t seed)
+  {
+    this->SetSamplingSetting(m_Seed, seed);
+  }
   itkGetConstMacro(Seed, uint64_t);
   ///@}
 
   ///@{
   /** Voxel model: Box (default, reference Siddon) or Tent (trilinear). */
-  itkSetEnumMacro(ReconstructionKernel, KernelEnum);
+  void
+  SetReconstructionKernel(KernelEnum kernel)
+  {
+    this->SetSamplingSetting(m_ReconstructionKernel, kernel);
+  }
   itkGetConstMacro(ReconstructionKernel, KernelEnum);
   ///@}
 
@@ -118,7 +131,11 @@ public:
    * price of a noisier standard-error image. 1 is refused at Update() (one stratum of dependent points has no spread
    * to measure). With fewer than 16 points per stratum the render runs as one stratum, whose standard error treats
    * the points as independent, and the filter warns. Samplers of independent points ignore it. */
-  itkSetClampMacro(NumberOfStrata, unsigned int, 0, 256);
+  void
+  SetNumberOfStrata(unsigned int strata)
+  {
+    this->SetSamplingSetting(m_NumberOfStrata, std::min(strata, 256u));
+  }
   itkGetConstMacro(NumberOfStrata, unsigned int);
   ///@}
 
@@ -126,7 +143,11 @@ public:
   /** The sampler policy. Default: DRRSamplerFactory::DefaultName, DRRStratifiedSampler (systematic along a Morton
    * curve of the mass, culled to the view: the least error for the time, docs/performance.md).
    * \sa DRRSamplerFactory */
-  itkSetObjectMacro(Sampler, SamplerType);
+  void
+  SetSampler(SamplerType * sampler)
+  {
+    this->SetSamplingSetting(m_Sampler, typename SamplerType::Pointer(sampler));
+  }
   itkGetModifiableObjectMacro(Sampler, SamplerType);
   ///@}
 
@@ -218,20 +239,30 @@ public:
   PrepareSampling();
 
   /** Progressive refinement: renders additionalSamples more points as an independent pass (its seed derived from
-   * Seed and the pass number) and updates both outputs in place with the combined estimate: the sample-weighted mean
-   * of the passes and its standard error. Works with every sampler. Throws if nothing was rendered yet, or if the
-   * filter, its input, geometry, transform or sampler changed since (call Update() first). */
+   * Seed and the pass number) and updates both outputs, through Update(), with the combined estimate: the mean of the
+   * passes weighted by the points each drew, and its standard error. Works with every sampler. Throws if nothing was
+   * rendered yet, or if anything upstream of the outputs (the filter, its input or attenuation volume, geometry,
+   * transform, sampler) changed since (call Update() first). */
   void
   Refine(uint64_t additionalSamples);
 
-  /** Points behind the current outputs: NumberOfSamples plus every refinement since the last Update(). */
-  itkGetConstMacro(TotalNumberOfSamples, uint64_t);
+  /** Points drawn for the current outputs, as the renderer counts them (NumberOfSamples, or R ceil(N / R) for a
+   * sampler of R interleaved strata), over the render and every refinement since. */
+  uint64_t
+  GetTotalNumberOfSamples() const
+  {
+    return m_Passes.GetNumberOfSamples();
+  }
 
   /** Attenuation mass M of the volume in the room (sum of mu times voxel volume), mm^2, of the last render. */
   itkGetConstMacro(TotalMass, double);
   /** Number of points that landed on the detector (their nearest pixel inside it), in the last Update() and the
    * refinements since. */
-  itkGetConstMacro(PointsOnDetector, uint64_t);
+  uint64_t
+  GetPointsOnDetector() const
+  {
+    return m_Passes.GetPointsOnDetector();
+  }
 
   /** Includes the sampler's, as well as the geometry's, transform's and transfer function's. */
   ModifiedTimeType
@@ -241,7 +272,8 @@ protected:
   PointBasedDRRImageFilter();
   ~PointBasedDRRImageFilter() override = default;
 
-  /** Renders NumberOfSamples points (or re-projects the kept ones) and writes both outputs. */
+  /** Renders NumberOfSamples points (or re-projects the kept ones), or adds the pass a Refine() asked for, and writes
+   * the outputs: the only place they are written. */
   void
   GenerateData() override;
 
@@ -264,10 +296,15 @@ protected:
   DRRPointRenderer::Settings
   MakeSettings(uint64_t samples, unsigned int pass) const;
 
+  /** Makes the control variate for the current attenuation volume and factor, unless the one made is still
+   * current (neither the volume nor the factor changed since it was made); frees it for no control variate. */
+  void
+  PrepareControlVariate();
   /** The volume the sampler draws from: the attenuation volume, or the control variate's residual. */
   const DRRAttenuationVolume &
-  GetSamplingVolume();
-  /** Initializes the sampler on volume unless it already is (the same volume, unmodified, and the same sampler). */
+  GetSamplingVolume() const;
+  /** Initializes the sampler on volume unless its tables are newer than the volume, the sampler's settings and the
+   * last SetSampler(). */
   void
   InitializeSampler(const DRRAttenuationVolume & volume);
 
@@ -278,13 +315,26 @@ protected:
   /** Adds the control variate's coarse image for the current pose to a render of the residual (no-op without one). */
   void
   AddControlVariateImage(const DRRPointRenderer::Settings & settings, DRRPointRenderer::Result & result);
-  /** The base's checks (the input is set), then VerifySettings() with the number of samples. */
+  /** The base's checks (the input is set), then VerifySettings() with the number of samples of the coming pass. */
   void
   VerifyPreconditions() const override;
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
+  /** Sets a setting the drawn points depend on: marks the filter, and the sampling settings, modified if new. */
+  template <typename TValue>
+  void
+  SetSamplingSetting(TValue & member, const TValue & value)
+  {
+    if (member != value)
+    {
+      member = value;
+      m_SamplingSettingsTime.Modified();
+      this->Modified();
+    }
+  }
+  // The settings.
   uint64_t                      m_NumberOfSamples{ DRRPointRenderer::DefaultNumberOfSamples };
   uint64_t                      m_Seed{ 0 };
   unsigned int                  m_NumberOfStrata{ 0 };
@@ -295,30 +345,28 @@ private:
   unsigned int                  m_ControlVariateFactor{ 0 };
   unsigned int                  m_ControlVariateRaysPerSide{ 1 };
   bool                          m_ComputeStandardError{ true };
-  DRRControlVariate::Pointer    m_ControlVariate;
-  const DRRAttenuationVolume *  m_ControlVariateVolume{ nullptr };
-  ModifiedTimeType              m_ControlVariateVolumeTime{ 0 };
-  unsigned int                  m_DeclinedControlVariateFactor{ 0 }; // `auto`'s F whose residual was too large
-  const DRRAttenuationVolume *  m_SamplerVolume{ nullptr };
-  ModifiedTimeType              m_SamplerVolumeTime{ 0 };
-  ModifiedTimeType              m_SamplerTime{ 0 };
-  double                        m_TotalMass{ 0.0 };
-  uint64_t                      m_TotalNumberOfSamples{ 0 };
-  unsigned int                  m_NumberOfPasses{ 0 };
-  ModifiedTimeType              m_RenderedTime{ 0 };
-  ModifiedTimeType              m_RenderedInputTime{ 0 };
-  std::vector<double>           m_WeightedEstimateSum;          // sum over passes of N_k L_k, per pixel
-  std::vector<double>           m_WeightedVarianceSum;          // sum over passes of N_k^2 SE_k^2, per pixel
-  std::vector<double>           m_WeightedChannelSum;           // sum over passes of N_k L_k, per pixel and channel
-  std::vector<double>           m_WeightedChannelCovarianceSum; // sum over passes of N_k^2 C_k, per pixel and pair
-  uint64_t                      m_PointsOnDetector{ 0 };
   bool                          m_ReusePoints{ false };
   uint64_t                      m_ExpectedNumberOfPoses{ 1 };
-  DRRPointCloud::Pointer        m_PointCloud;
-  std::vector<ModifiedTimeType> m_PointCloudKey; // what the kept points were drawn from
-  unsigned int                  m_NumberOfPointCloudDraws{ 0 };
+
+  // What the renders are made of, each stale once something it was made from is newer: the attenuation volume ->
+  // the control variate -> the sampler's tables -> the kept points.
+  TimeStamp                          m_SamplingSettingsTime; // the last change of a setting the points depend on
+  DRRAttenuationVolume::ConstPointer m_PreparedVolume;       // the attenuation volume the control variate is of
+  DRRControlVariate::Pointer         m_ControlVariate;       // null: none (off, declined or not made yet)
+  TimeStamp                          m_ControlVariateTime;   // when it was made, or declined
+  unsigned int                       m_PreparedFactor{ 0 };  // its F, or F declined (`auto` found M_r / M too large)
+  TimeStamp                          m_SamplerTime;          // when the sampler was initialized
+  DRRPointCloud::Pointer             m_PointCloud;
+  TimeStamp                          m_PointCloudTime; // when the kept points were drawn
+  unsigned int                       m_NumberOfPointCloudDraws{ 0 };
   // The renders of the kept points reuse their sums from pose to pose.
   std::shared_ptr<DRRPointRenderer::Workspace> m_PointCloudWorkspace;
+
+  // The outputs: the passes of the last render and the refinements since, and what a Refine() asks for.
+  DRRPassCombination m_Passes;
+  double             m_TotalMass{ 0.0 };
+  TimeStamp          m_RenderTime;             // when the outputs were last written
+  uint64_t           m_RefinementSamples{ 0 }; // the points of the pass Refine() asked for (0: a render)
 };
 } // namespace itk
 

@@ -21,6 +21,9 @@
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkDRRSamplerFactory.h"
 
+#include <algorithm>
+#include <utility>
+
 namespace itk
 {
 template <typename TInputImage, typename TOutputImage>
@@ -47,7 +50,8 @@ template <typename TInputImage, typename TOutputImage>
 unsigned int
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveControlVariateFactor()
 {
-  if (this->GetAttenuationVolume()->GetNumberOfChannels() > 1)
+  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+  if (volume->GetNumberOfChannels() > 1)
   {
     // The coarse image mixes the labels of a block: channels render without a control variate.
     if (m_ControlVariateFactor != 0 && m_ControlVariateFactor != AutomaticControlVariateFactor)
@@ -58,79 +62,65 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveControlVariateFactor
     }
     return 0;
   }
-  if (m_ControlVariateFactor == AutomaticControlVariateFactor)
+  if (m_ControlVariateFactor != AutomaticControlVariateFactor)
   {
-    const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
-    if (m_ReusePoints && m_ControlVariate && m_ControlVariateVolume == volume &&
-        m_ControlVariateVolumeTime == volume->GetMTime())
-    {
-      return m_ControlVariate->GetFactor(); // kept points: one split for every pose, chosen at the first
-    }
-    if (m_ReusePoints && m_DeclinedControlVariateFactor != 0 && m_ControlVariateVolume == volume &&
-        m_ControlVariateVolumeTime == volume->GetMTime())
-    {
-      return m_DeclinedControlVariateFactor; // kept points: declined at the first pose, for every pose
-    }
-    return DRRControlVariate::ChooseFactor(*this->GetAttenuationVolume(),
-                                           this->MakeProjection(),
-                                           m_NumberOfSamples,
-                                           m_ReusePoints ? m_ExpectedNumberOfPoses : 1);
+    return m_ControlVariateFactor;
   }
-  return m_ControlVariateFactor;
+  if (m_ReusePoints && m_PreparedFactor != 0 && m_PreparedVolume == volume &&
+      m_ControlVariateTime.GetMTime() > volume->GetMTime())
+  {
+    return m_PreparedFactor; // kept points: one split (or its decline) for every pose, chosen at the first
+  }
+  return DRRControlVariate::ChooseFactor(
+    *volume, this->MakeProjection(), m_NumberOfSamples, m_ReusePoints ? m_ExpectedNumberOfPoses : 1);
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareControlVariate()
+{
+  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+  const unsigned int           factor = this->ResolveControlVariateFactor();
+  if (m_PreparedVolume == volume && m_ControlVariateTime.GetMTime() > volume->GetMTime() && m_PreparedFactor == factor)
+  {
+    return; // made, or declined, for this volume and factor already
+  }
+  m_ControlVariate = nullptr; // its tables are large: free the old split before making the new one
+  m_PreparedVolume = volume;
+  m_PreparedFactor = factor;
+  if (factor != 0)
+  {
+    m_ControlVariate = DRRControlVariate::New();
+    m_ControlVariate->Build(*volume, factor, this->GetMultiThreader());
+  }
+  m_ControlVariateTime.Modified();
 }
 
 template <typename TInputImage, typename TOutputImage>
 const DRRAttenuationVolume &
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSamplingVolume()
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSamplingVolume() const
 {
-  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
-  const unsigned int           factor = this->ResolveControlVariateFactor();
-  if (factor == 0)
-  {
-    m_ControlVariate = nullptr; // its tables are large: free them once off
-    return *volume;
-  }
-  const bool automatic = m_ControlVariateFactor == AutomaticControlVariateFactor;
-  if (automatic && m_DeclinedControlVariateFactor == factor && m_ControlVariateVolume == volume &&
-      m_ControlVariateVolumeTime == volume->GetMTime())
-  {
-    return *volume; // `auto` found this split's residual too large for this volume already
-  }
-  if (!m_ControlVariate || m_ControlVariate->GetFactor() != factor || m_ControlVariateVolume != volume ||
-      m_ControlVariateVolumeTime != volume->GetMTime())
-  {
-    m_ControlVariate = nullptr; // free the old split before building the new one
-    m_ControlVariate = DRRControlVariate::New();
-    m_ControlVariate->Build(*volume, factor, this->GetMultiThreader());
-    m_ControlVariateVolume = volume;
-    m_ControlVariateVolumeTime = volume->GetMTime();
-    m_DeclinedControlVariateFactor = 0;
-  }
-  return m_ControlVariate->GetResidualVolume();
+  return m_ControlVariate ? m_ControlVariate->GetResidualVolume() : *m_PreparedVolume;
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
 {
-  if (!m_Sampler)
-  {
-    itkExceptionMacro("no sampler set");
-  }
   this->VerifySettings(m_NumberOfSamples); // called before Update() too (pbdrr times it apart)
-  const DRRAttenuationVolume * volume = &this->GetSamplingVolume();
-  this->InitializeSampler(*volume);
+  this->PrepareControlVariate();
+  this->InitializeSampler(this->GetSamplingVolume());
   if (m_ControlVariateFactor == AutomaticControlVariateFactor && m_ControlVariate &&
       m_Sampler->GetTotalMass() > MaximumAutomaticResidualFraction * m_ControlVariate->GetTotalMass())
   {
     // The residual holds more than the stated fraction of the mass (M_r as the sampler summed it, no pass of its
     // own): the points' error would shrink by less than the coarse image costs (or grow, above 1). `auto` renders
-    // without a control variate.
+    // without a control variate, and remembers the F it declined for this volume (m_PreparedFactor).
     itkDebugMacro("control variate F " << m_ControlVariate->GetFactor() << " declined: M_r / M = "
                                        << m_Sampler->GetTotalMass() / m_ControlVariate->GetTotalMass());
-    m_DeclinedControlVariateFactor = m_ControlVariate->GetFactor();
     m_ControlVariate = nullptr;
-    this->InitializeSampler(*this->GetAttenuationVolume());
+    m_ControlVariateTime.Modified();
+    this->InitializeSampler(this->GetSamplingVolume());
   }
 }
 
@@ -138,12 +128,14 @@ template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::InitializeSampler(const DRRAttenuationVolume & volume)
 {
-  if (m_SamplerVolume != &volume || m_SamplerVolumeTime != volume.GetMTime() || m_SamplerTime != m_Sampler->GetMTime())
+  // The sampler's tables are stale once anything they are made of is newer: the volume sampled, the control variate
+  // (made or declined: another volume sampled), the sampler's own settings, or the sampler set.
+  const ModifiedTimeType madeOf = std::max(
+    { volume.GetMTime(), m_ControlVariateTime.GetMTime(), m_Sampler->GetMTime(), m_SamplingSettingsTime.GetMTime() });
+  if (madeOf > m_SamplerTime.GetMTime())
   {
     m_Sampler->Initialize(volume);
-    m_SamplerVolume = &volume;
-    m_SamplerVolumeTime = volume.GetMTime();
-    m_SamplerTime = m_Sampler->GetMTime();
+    m_SamplerTime.Modified();
   }
 }
 
@@ -170,13 +162,17 @@ void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
-  this->VerifySettings(m_NumberOfSamples);
+  this->VerifySettings(m_RefinementSamples > 0 ? m_RefinementSamples : m_NumberOfSamples);
 }
 
 template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifySettings(uint64_t samples) const
 {
+  if (!m_Sampler)
+  {
+    itkExceptionMacro("no sampler set");
+  }
   if (samples < DRRPointRenderer::MinimumNumberOfSamples)
   {
     itkExceptionMacro("the number of samples must be at least 1");
@@ -259,12 +255,13 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   else
   {
     this->PrepareSampling();
-    DRRPointRenderer::Settings signedSettings = settings;
-    signedSettings.SignedResidual = m_ControlVariate ? &m_ControlVariate->GetResidualVolume() : nullptr;
-    signedSettings.VoxelChannels = m_SamplerVolume->GetVoxelChannels();
-    signedSettings.NumberOfChannels = m_SamplerVolume->GetNumberOfChannels();
+    const DRRAttenuationVolume & volume = this->GetSamplingVolume();
+    DRRPointRenderer::Settings   signedSettings = settings;
+    signedSettings.SignedResidual = m_ControlVariate ? &volume : nullptr;
+    signedSettings.VoxelChannels = volume.GetVoxelChannels();
+    signedSettings.NumberOfChannels = volume.GetNumberOfChannels();
     result = DRRPointRenderer::Render(
-      *m_SamplerVolume, *m_Sampler, this->MakeProjection(), signedSettings, this->GetMultiThreader(), this);
+      volume, *m_Sampler, this->MakeProjection(), signedSettings, this->GetMultiThreader(), this);
     this->AddControlVariateImage(settings, result);
   }
   if (result.SourceNearVolume)
@@ -299,24 +296,18 @@ DRRPointRenderer::Result
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints(DRRPointRenderer::Settings settings)
 {
   this->PrepareSampling();
-  settings.SignedResidual = m_ControlVariate ? &m_ControlVariate->GetResidualVolume() : nullptr;
-  settings.VoxelChannels = m_SamplerVolume->GetVoxelChannels();
-  settings.NumberOfChannels = m_SamplerVolume->GetNumberOfChannels();
-  // Everything the points depend on; the pose (transform, geometry), the splat and the weighting are not in it.
-  const std::vector<ModifiedTimeType> key{ m_SamplerVolumeTime,
-                                           m_SamplerTime,
-                                           static_cast<ModifiedTimeType>(reinterpret_cast<uintptr_t>(m_SamplerVolume)),
-                                           static_cast<ModifiedTimeType>(
-                                             reinterpret_cast<uintptr_t>(m_Sampler.GetPointer())),
-                                           static_cast<ModifiedTimeType>(settings.NumberOfSamples),
-                                           static_cast<ModifiedTimeType>(settings.Seed),
-                                           static_cast<ModifiedTimeType>(settings.Kernel),
-                                           static_cast<ModifiedTimeType>(settings.NumberOfStrata) };
-  if (!m_PointCloud || key != m_PointCloudKey)
+  const DRRAttenuationVolume & volume = this->GetSamplingVolume();
+  settings.SignedResidual = m_ControlVariate ? &volume : nullptr;
+  settings.VoxelChannels = volume.GetVoxelChannels();
+  settings.NumberOfChannels = volume.GetNumberOfChannels();
+  // The points are stale once the sampler's tables or a setting they are drawn with (samples, seed, kernel, strata)
+  // are newer; the pose (transform, geometry), the splat and the weighting are not among them.
+  if (!m_PointCloud ||
+      std::max(m_SamplerTime.GetMTime(), m_SamplingSettingsTime.GetMTime()) > m_PointCloudTime.GetMTime())
   {
     m_PointCloud = nullptr; // free the old points before drawing new ones
-    m_PointCloud = DRRPointRenderer::Draw(*m_SamplerVolume, *m_Sampler, settings, this->GetMultiThreader(), this);
-    m_PointCloudKey = key;
+    m_PointCloud = DRRPointRenderer::Draw(volume, *m_Sampler, settings, this->GetMultiThreader(), this);
+    m_PointCloudTime.Modified();
     ++m_NumberOfPointCloudDraws;
   }
   if (!m_PointCloudWorkspace)
@@ -333,32 +324,18 @@ template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
-  const DRRPointRenderer::Result result = this->RenderPass(m_NumberOfSamples, 0);
-  const double                   n = static_cast<double>(m_NumberOfSamples);
-  m_WeightedEstimateSum.resize(result.LineIntegral.size());
-  m_WeightedVarianceSum.resize(result.LineIntegral.size());
-  for (size_t p = 0; p < result.LineIntegral.size(); ++p)
+  // A render starts the passes afresh; a refinement adds one to them.
+  const uint64_t refinement = std::exchange(m_RefinementSamples, uint64_t{ 0 });
+  if (refinement == 0)
   {
-    m_WeightedEstimateSum[p] = n * result.LineIntegral[p];
-    m_WeightedVarianceSum[p] = n * n * result.StandardError[p] * result.StandardError[p];
+    m_Passes.Clear();
   }
-  m_WeightedChannelSum.resize(result.ChannelLineIntegral.size());
-  m_WeightedChannelCovarianceSum.resize(result.ChannelCovariance.size());
-  for (size_t i = 0; i < m_WeightedChannelSum.size(); ++i)
-  {
-    m_WeightedChannelSum[i] = n * result.ChannelLineIntegral[i];
-  }
-  for (size_t i = 0; i < m_WeightedChannelCovarianceSum.size(); ++i)
-  {
-    m_WeightedChannelCovarianceSum[i] = n * n * result.ChannelCovariance[i];
-  }
-  m_TotalNumberOfSamples = m_NumberOfSamples;
-  m_NumberOfPasses = 1;
-  m_PointsOnDetector = result.PointsOnDetector;
-  m_RenderedTime = this->GetMTime();
-  m_RenderedInputTime = this->GetInput()->GetMTime();
-  this->WriteOutputs(result.LineIntegral, &result.StandardError);
-  this->WriteChannelOutputs(result.ChannelLineIntegral, &result.ChannelCovariance);
+  const uint64_t samples = refinement > 0 ? refinement : m_NumberOfSamples;
+  m_Passes.Add(this->RenderPass(samples, m_Passes.GetNumberOfPasses()), samples);
+  const DRRPassCombination::Estimate estimate = m_Passes.Combine();
+  this->WriteOutputs(estimate.LineIntegral, &estimate.StandardError);
+  this->WriteChannelOutputs(estimate.ChannelLineIntegral, &estimate.ChannelCovariance);
+  m_RenderTime.Modified();
   this->UpdateProgress(1.0f);
 }
 
@@ -366,51 +343,30 @@ template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::Refine(uint64_t additionalSamples)
 {
-  if (m_NumberOfPasses == 0 || !this->GetInput())
+  if (m_Passes.GetNumberOfPasses() == 0)
   {
     itkExceptionMacro("Refine() adds to a render: call Update() first");
   }
-  if (this->GetMTime() != m_RenderedTime || this->GetInput()->GetMTime() != m_RenderedInputTime)
+  // Anything upstream of the outputs newer than them (the filter's settings, geometry, transform, sampler, the input
+  // or attenuation volume, modified in place or not) makes a refinement of another image.
+  this->UpdateOutputInformation();
+  if (this->GetOutput()->GetPipelineMTime() > m_RenderTime.GetMTime())
   {
     itkExceptionMacro("the filter, its input, geometry, transform or sampler changed since the last Update(): call "
                       "Update() before Refine()");
   }
   this->VerifySettings(additionalSamples);
-  const DRRPointRenderer::Result result = this->RenderPass(additionalSamples, m_NumberOfPasses);
-  const double                   n = static_cast<double>(additionalSamples);
-  m_TotalNumberOfSamples += additionalSamples;
-  ++m_NumberOfPasses;
-  m_PointsOnDetector += result.PointsOnDetector;
-  const double        total = static_cast<double>(m_TotalNumberOfSamples);
-  std::vector<double> estimate(result.LineIntegral.size());
-  std::vector<double> standardError(result.LineIntegral.size());
-  for (size_t p = 0; p < estimate.size(); ++p)
+  m_RefinementSamples = additionalSamples;
+  this->Modified(); // the outputs are written by Update() alone
+  try
   {
-    m_WeightedEstimateSum[p] += n * result.LineIntegral[p];
-    m_WeightedVarianceSum[p] += n * n * result.StandardError[p] * result.StandardError[p];
-    estimate[p] = m_WeightedEstimateSum[p] / total;
-    standardError[p] = std::sqrt(m_WeightedVarianceSum[p]) / total;
+    this->Update();
   }
-  this->WriteOutputs(estimate, &standardError);
-  // The channels combine as the image does: sum n_k L_k / sum n_k, and the covariance sum n_k^2 C_k / (sum n_k)^2.
-  std::vector<double> channels(m_WeightedChannelSum.size());
-  std::vector<double> covariance(m_WeightedChannelCovarianceSum.size());
-  for (size_t i = 0; i < channels.size(); ++i)
+  catch (...)
   {
-    m_WeightedChannelSum[i] += n * result.ChannelLineIntegral[i];
-    channels[i] = m_WeightedChannelSum[i] / total;
+    m_RefinementSamples = 0;
+    throw;
   }
-  for (size_t i = 0; i < covariance.size(); ++i)
-  {
-    m_WeightedChannelCovarianceSum[i] += n * n * result.ChannelCovariance[i];
-    covariance[i] = m_WeightedChannelCovarianceSum[i] / (total * total);
-  }
-  this->WriteChannelOutputs(channels, &covariance);
-  this->GetOutput(0)->Modified();
-  this->GetOutput(1)->Modified();
-  this->GetChannelOutput()->Modified();
-  this->GetChannelCovarianceOutput()->Modified();
-  this->UpdateProgress(1.0f);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -432,8 +388,9 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
   os << indent << "ComputeStandardError: " << (m_ComputeStandardError ? "On" : "Off") << std::endl;
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "TotalMass (mm^2): " << m_TotalMass << std::endl;
-  os << indent << "PointsOnDetector: " << m_PointsOnDetector << std::endl;
-  os << indent << "TotalNumberOfSamples: " << m_TotalNumberOfSamples << std::endl;
+  os << indent << "PointsOnDetector: " << this->GetPointsOnDetector() << std::endl;
+  os << indent << "TotalNumberOfSamples: " << this->GetTotalNumberOfSamples() << std::endl;
+  os << indent << "NumberOfPasses: " << m_Passes.GetNumberOfPasses() << std::endl;
   os << indent << "ReusePoints: " << (m_ReusePoints ? "On" : "Off") << std::endl;
   os << indent << "ExpectedNumberOfPoses: " << m_ExpectedNumberOfPoses << std::endl;
   os << indent << "PointCloud: ";

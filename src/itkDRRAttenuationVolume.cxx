@@ -128,7 +128,15 @@ DRRAttenuationVolume::Reset(const SizeType & size)
   m_LargestMu = 0.0f;
   m_VoxelChannels.clear();
   m_NumberOfChannels = 1;
+  m_ChannelLabels.clear();
   this->Modified();
+}
+
+void
+DRRAttenuationVolume::Initialize()
+{
+  Superclass::Initialize();
+  this->Reset(SizeType{ { 0, 0, 0 } });
 }
 
 void

@@ -1,0 +1,222 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRImageToAttenuationVolumeFilter_h
+#define itkDRRImageToAttenuationVolumeFilter_h
+
+#include "itkDRRCompatibility.h"
+#include "itkDRRAttenuationVolume.h"
+#include "itkDRRLabelSelection.h"
+#include "itkDRRTransferFunction.h"
+#include "itkImage.h"
+#include "itkProcessObject.h"
+
+namespace itk
+{
+/** \class DRRImageToAttenuationVolumeFilter
+ * \brief The preprocessing stage of the DRR filters: a CT volume (and an optional label image) in, the attenuation
+ * model they render out (DRRAttenuationVolume, mu in 1/mm on the volume's grid).
+ *
+ * A process object of ITK's pipeline: it runs when its input, label image, transfer function or label settings
+ * changed since its last run (ITK decides from the modified times), and not otherwise. Every DRR filter builds one of
+ * its own when it is given none; given one's output (DRRImageFilterBase::SetAttenuationVolume()), several filters share
+ * one model, built once, as a registration rendering points and exact rays of one CT does:
+ *
+ * \code
+ *   auto model = itk::DRRImageToAttenuationVolumeFilter<CTImageType>::New();
+ *   model->SetInput(ct);
+ *   points->SetAttenuationVolume(model->GetOutput());
+ *   exact->SetAttenuationVolume(model->GetOutput());
+ * \endcode
+ *
+ * - Input: a 3D scalar image (HU, or mu in 1/mm with an Identity transfer function), wholly buffered; its origin,
+ *   spacing and direction become the model's index-to-physical mapping. A 16-bit input is read in place (the model
+ *   references its pixel container). NaN or infinite voxels and negative attenuation are refused.
+ * - Labels (optional, docs/design.md section 13): a label image on the volume's grid, or one resampled onto it by
+ *   ITK's ResampleImageFilter with a nearest-neighbour interpolator (label 0 outside it, with a warning), selects which
+ *   voxels attenuate (SetKeptLabels(), SetDroppedLabels()) and, with LabelChannels on, gives every voxel its label's
+ *   channel.
+ * - Material channels (docs/design.md section 14): with the transfer function's Materials mode, every voxel's channel
+ *   is its material.
+ *
+ * \sa DRRAttenuationVolume, DRRImageFilterBase, DRRTransferFunction, DRRLabelSelection
+ * \ingroup PointBasedDRR
+ */
+template <typename TInputImage>
+class ITK_TEMPLATE_EXPORT DRRImageToAttenuationVolumeFilter : public ProcessObject
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(DRRImageToAttenuationVolumeFilter);
+
+  /** Standard class type aliases. */
+  using Self = DRRImageToAttenuationVolumeFilter;
+  using Superclass = ProcessObject;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  /** Method for creation through the object factory. */
+  itkNewMacro(Self);
+
+  /** Run-time type information (and related methods). */
+  itkOverrideGetNameOfClassMacro(DRRImageToAttenuationVolumeFilter);
+
+  /** The 3D volume: HU, or mu in 1/mm (any scalar pixel type). */
+  using InputImageType = TInputImage;
+  /** Voxel type of the volume. */
+  using InputPixelType = typename InputImageType::PixelType;
+  /** The output: the attenuation model. */
+  using OutputType = DRRAttenuationVolume;
+  /** Input value -> mu (1/mm). */
+  using TransferFunctionType = DRRTransferFunction;
+  /** A label value (0 to 65535). */
+  using LabelPixelType = DRRLabelSelection::LabelType;
+  /** A list of labels. */
+  using LabelListType = DRRLabelSelection::LabelListType;
+  /** The label image: a label per voxel. */
+  using LabelImageType = Image<LabelPixelType, 3>;
+
+  static_assert(InputImageType::ImageDimension == 3, "the attenuation model is made of a 3D volume");
+  static_assert(std::is_arithmetic<InputPixelType>::value, "the attenuation model is made of scalar voxels");
+
+  /** Dimension of the input: 3. */
+  static constexpr unsigned int InputImageDimension = 3;
+
+  using Superclass::SetInput;
+  /** The volume (required). */
+  virtual void
+  SetInput(const InputImageType * input);
+  /** The volume. */
+  const InputImageType *
+  GetInput() const;
+
+  ///@{
+  /** Optional label image: a label (0 to 65535) per voxel, on the volume's grid or resampled onto it. */
+  itkSetInputMacro(LabelImage, LabelImageType);
+  itkGetInputMacro(LabelImage, LabelImageType);
+  ///@}
+
+  /** The attenuation model. */
+  OutputType *
+  GetOutput();
+  /** The attenuation model. */
+  const OutputType *
+  GetOutput() const;
+
+  ///@{
+  /** Input value -> mu (1/mm). Default: natural, 60 keV. */
+  itkSetObjectMacro(TransferFunction, TransferFunctionType);
+  itkGetModifiableObjectMacro(TransferFunction, TransferFunctionType);
+  ///@}
+
+  /** Only voxels of these labels attenuate (empty, the default: every label). Each must be in the label image. */
+  void
+  SetKeptLabels(const LabelListType & labels)
+  {
+    if (labels != m_KeptLabels)
+    {
+      m_KeptLabels = labels;
+      this->Modified();
+    }
+  }
+  /** The kept labels (empty: every label). */
+  itkGetConstReferenceMacro(KeptLabels, LabelListType);
+  /** Voxels of these labels do not attenuate (default none). Each must be in the label image. */
+  void
+  SetDroppedLabels(const LabelListType & labels)
+  {
+    if (labels != m_DroppedLabels)
+    {
+      m_DroppedLabels = labels;
+      this->Modified();
+    }
+  }
+  /** The dropped labels. */
+  itkGetConstReferenceMacro(DroppedLabels, LabelListType);
+  ///@{
+  /** Label channels (default off): every attenuating label is a channel, in increasing label order. Needs a label
+   * image. */
+  itkSetMacro(LabelChannels, bool);
+  itkGetConstMacro(LabelChannels, bool);
+  itkBooleanMacro(LabelChannels);
+  ///@}
+  ///@{
+  /** Material channels (default off): with the transfer function's Materials mode, channel m holds material m. Not
+   * together with LabelChannels. */
+  itkSetMacro(MaterialChannels, bool);
+  itkGetConstMacro(MaterialChannels, bool);
+  itkBooleanMacro(MaterialChannels);
+  ///@}
+
+  /** Includes the transfer function's. */
+  ModifiedTimeType
+  GetMTime() const override;
+
+protected:
+  DRRImageToAttenuationVolumeFilter();
+  ~DRRImageToAttenuationVolumeFilter() override = default;
+
+  /** The indexed outputs' MakeOutput(name), beside the indexed one below. */
+  using Superclass::MakeOutput;
+  /** Makes a DRRAttenuationVolume. */
+  DataObject::Pointer
+  MakeOutput(DataObjectPointerArraySizeType index) override;
+
+  /** Requests the whole volume and the whole label image: the model covers every voxel. */
+  void
+  GenerateInputRequestedRegion() override;
+  /** The model has no information to propagate before it is built. */
+  void
+  GenerateOutputInformation() override
+  {}
+  /** The required input, and the settings' rules: label settings need a label image, material channels the
+   * transfer function's Materials mode and no label channels. Throws an ExceptionObject naming the rule. */
+  void
+  VerifyPreconditions() const override;
+  /** Builds the model into the output, in place of the previous one (freed first). */
+  void
+  GenerateData() override;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  /** The volume's index-to-physical mapping: direction times spacing, and the first voxel's centre. */
+  void
+  SetIndexToPhysical(const InputImageType & input, OutputType & volume) const;
+  /** Material channels: every voxel's material (transfer function's table) as its channel. */
+  void
+  ApplyMaterials(const InputImageType & input, OutputType & volume);
+  /** The label selection and label channels (DRRLabelSelection). */
+  void
+  ApplyLabels(const InputImageType & input, OutputType & volume);
+  /** The label image on the volume's grid: itself, or resampled onto it by nearest neighbour (label 0 outside). */
+  typename LabelImageType::ConstPointer
+  LabelsOnVolumeGrid(const InputImageType & input) const;
+
+  typename TransferFunctionType::Pointer m_TransferFunction;
+  LabelListType                          m_KeptLabels;
+  LabelListType                          m_DroppedLabels;
+  bool                                   m_LabelChannels{ false };
+  bool                                   m_MaterialChannels{ false };
+};
+} // namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#include "itkDRRImageToAttenuationVolumeFilter.hxx"
+#endif
+
+#endif
