@@ -19,6 +19,7 @@
 // standard-error output predicts its spread, that the paper's unweighted count is biased in perspective, and that a
 // seed fixes the image bit for bit on any number of threads.
 #include "itkPointBasedDRRImageFilter.h"
+#include "itkDRRImageToAttenuationVolumeFilter.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkAffineTransform.h"
 #include "itkDRRPhiloxRandom.h"
@@ -1203,6 +1204,156 @@ TEST(PointBasedDRRReuse, CachedReprojectionEqualsAFreshRenderWithTheSameSeed)
       EXPECT_EQ(kept->GetNumberOfPointCloudDraws(), 2u) << sampler << ": a new seed must draw new points";
       EXPECT_NE(otherSeed, reprojected);
     }
+  }
+}
+
+// The preprocessing stage is a process object of ITK's pipeline: shared by a point-based and an exact filter, it runs
+// once; a change of the pose does not run it; its input's buffer modified in place and Modified() runs it again, and
+// both filters render the new volume, as filters of their own would.
+TEST(DRRImageToAttenuationVolumeFilter, RunsOnceForTheFiltersSharingItAndAgainWhenItsInputIsModified)
+{
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  using StageType = itk::DRRImageToAttenuationVolumeFilter<HUVolumeType>;
+  using PointType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  using ExactType = itk::ExactDRRImageFilter<HUVolumeType, ProjectionType>;
+  auto         stage = StageType::New();
+  unsigned int runs = 0;
+  auto         counter = itk::CStyleCommand::New();
+  counter->SetClientData(&runs);
+  counter->SetCallback(
+    [](itk::Object *, const itk::EventObject &, void * count) { ++*static_cast<unsigned int *>(count); });
+  stage->AddObserver(itk::StartEvent(), counter);
+  stage->SetInput(volume);
+  const auto geometry = MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0);
+  const auto configure = [&](auto * filter, bool shared) {
+    filter->SetGeometry(geometry);
+    if (shared)
+    {
+      filter->SetAttenuationVolume(stage->GetOutput());
+    }
+    else
+    {
+      filter->SetInput(volume);
+    }
+  };
+  const auto makePoint = [&](bool shared) {
+    auto drr = PointType::New();
+    configure(drr.GetPointer(), shared);
+    drr->SetNumberOfSamples(20000);
+    drr->SetSeed(5);
+    return drr;
+  };
+  const auto makeExact = [&](bool shared) {
+    auto exact = ExactType::New();
+    configure(exact.GetPointer(), shared);
+    return exact;
+  };
+  const auto imageOf = [](itk::ProcessObject * filter, ProjectionType * output) {
+    filter->Update();
+    return ToVector(output);
+  };
+  auto       points = makePoint(true);
+  auto       exact = makeExact(true);
+  const auto pointImage = imageOf(points, points->GetOutput());
+  const auto exactImage = imageOf(exact, exact->GetOutput());
+  EXPECT_EQ(runs, 1u) << "two filters sharing the stage";
+  auto ownPoints = makePoint(false);
+  auto ownExact = makeExact(false);
+  EXPECT_EQ(pointImage, imageOf(ownPoints, ownPoints->GetOutput())) << "a shared model renders as a filter's own";
+  EXPECT_EQ(exactImage, imageOf(ownExact, ownExact->GetOutput()));
+
+  geometry->SetGantryAngleInDegrees(40.0);
+  const auto turnedImage = imageOf(points, points->GetOutput());
+  const auto turnedExact = imageOf(exact, exact->GetOutput());
+  EXPECT_EQ(runs, 1u) << "a new pose is not a new model";
+  EXPECT_NE(turnedImage, pointImage);
+
+  // The CT edited in place: its pixel container is the same, only its modified time says it changed.
+  FillBlock(volume.GetPointer(), { { 1, 1, 1 } }, { { 4, 5, 3 } }, 1500);
+  volume->Modified();
+  const auto editedPoints = imageOf(points, points->GetOutput());
+  const auto editedExact = imageOf(exact, exact->GetOutput());
+  EXPECT_EQ(runs, 2u) << "the modified input runs the stage once for both filters";
+  auto freshPoints = makePoint(false);
+  auto freshExact = makeExact(false);
+  EXPECT_EQ(editedPoints, imageOf(freshPoints, freshPoints->GetOutput())) << "the shared filter saw the edit";
+  EXPECT_EQ(editedExact, imageOf(freshExact, freshExact->GetOutput()));
+  EXPECT_NE(editedPoints, turnedImage);
+  EXPECT_NE(editedExact, turnedExact);
+}
+
+// A filter's own stage sees what the hand-made keys saw: its input's buffer modified in place (and Modified()), and
+// its transfer function changed in place, each re-render; a filter given a shared model refuses a volume or labels
+// of its own.
+TEST(DRRImageToAttenuationVolumeFilter, AFiltersOwnStageRebuildsForAnEditedInputOrTransferFunction)
+{
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  using PointType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  const auto geometry = MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0);
+  const auto make = [&](const HUVolumeType * input, double energyInKeV) {
+    auto drr = PointType::New();
+    drr->SetInput(input);
+    drr->SetGeometry(geometry);
+    drr->GetTransferFunction()->SetEffectiveEnergyInKeV(energyInKeV);
+    drr->SetNumberOfSamples(20000);
+    drr->SetSeed(9);
+    drr->Update();
+    return drr;
+  };
+  auto       drr = make(volume, 60.0);
+  const auto before = ToVector(drr->GetOutput());
+
+  drr->GetTransferFunction()->SetEffectiveEnergyInKeV(100.0);
+  drr->Update();
+  const auto at100 = ToVector(drr->GetOutput());
+  EXPECT_NE(at100, before) << "the transfer function changed in place";
+  EXPECT_EQ(at100, ToVector(make(volume, 100.0)->GetOutput()));
+
+  FillBlock(volume.GetPointer(), { { 0, 0, 0 } }, { { 5, 6, 2 } }, -1000);
+  volume->Modified();
+  drr->Update();
+  const auto edited = ToVector(drr->GetOutput());
+  EXPECT_NE(edited, at100) << "the input edited in place";
+  EXPECT_EQ(edited, ToVector(make(volume, 100.0)->GetOutput()));
+
+  auto stage = itk::DRRImageToAttenuationVolumeFilter<HUVolumeType>::New();
+  stage->SetInput(volume);
+  drr->SetAttenuationVolume(stage->GetOutput());
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "both"), "give one"));
+  drr->SetInput(nullptr);
+  drr->SetLabelChannels(true);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "labels"), "belong to the shared"));
+  drr->SetLabelChannels(false);
+  EXPECT_NO_THROW(drr->Update());
+  EXPECT_EQ(ToVector(drr->GetOutput()), ToVector(make(volume, 60.0)->GetOutput())) << "the stage's own 60 keV";
+  drr->SetAttenuationVolume(nullptr);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "nothing"), "no input volume"));
+}
+
+// A sampler replaced by another of the same type, made before the first render (so older than everything the filter
+// made), is initialized and draws the kept points again; the image is the same as the first sampler's.
+TEST(PointBasedDRRReuse, ASamplerReplacedByAnotherOfTheSameTypeIsInitializedAndDrawsAgain)
+{
+  const auto volume = MakePhantom<HUVolumeType>(false);
+  using PointType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  for (const char * name : { "stratified", "level-alias" })
+  {
+    auto first = itk::DRRSamplerFactory::Create(name);
+    auto second = itk::DRRSamplerFactory::Create(name);
+    auto drr = PointType::New();
+    drr->SetInput(volume);
+    drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0));
+    drr->SetNumberOfSamples(20000);
+    drr->SetReusePoints(true);
+    drr->SetSampler(first);
+    drr->Update();
+    const auto image = ToVector(drr->GetOutput());
+    ASSERT_GT(first->GetTotalMass(), 0.0);
+    drr->SetSampler(second);
+    drr->Update();
+    EXPECT_EQ(second->GetTotalMass(), first->GetTotalMass()) << name << ": the new sampler was initialized";
+    EXPECT_EQ(drr->GetNumberOfPointCloudDraws(), 2u) << name << ": its points were drawn";
+    EXPECT_EQ(ToVector(drr->GetOutput()), image) << name;
   }
 }
 
