@@ -24,6 +24,7 @@
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRProjectionMatrixFileIO.h"
 #include "itkImageFileWriter.h"
+#include "itkIntensityWindowingImageFilter.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -127,21 +128,24 @@ ChooseWindow(const Options & options, const ProjectionType * image, double & lev
   level = low + 0.5 * width;
 }
 
+/** The gray image of a window [low, low + width] of the line integrals, by ITK's IntensityWindowingImageFilter: the
+ * window onto 0 .. the pixel type's largest level, rounded to the nearest level (the filter truncates: its window is
+ * shifted down by half a level), attenuating bright. */
 template <typename TGray>
 void
-WriteGray(const ProjectionType * lineIntegral, const itk::DRROutputConversion & conversion, const std::string & path)
+WriteGray(const ProjectionType * lineIntegral, double low, double width, const std::string & path)
 {
-  auto gray = TGray::New();
-  gray->CopyInformation(lineIntegral);
-  gray->SetRegions(lineIntegral->GetLargestPossibleRegion());
-  gray->Allocate();
-  const float * in = lineIntegral->GetBufferPointer();
-  auto *        out = gray->GetBufferPointer();
-  for (size_t p = 0; p < gray->GetBufferedRegion().GetNumberOfPixels(); ++p)
-  {
-    out[p] = static_cast<typename TGray::PixelType>(conversion.Value(in[p]));
-  }
-  WriteImageAtomically(gray.GetPointer(), path);
+  using WindowType = itk::IntensityWindowingImageFilter<ProjectionType, TGray>;
+  const auto levels = itk::NumericTraits<typename TGray::PixelType>::max();
+  const auto halfLevel = 0.5 * width / static_cast<double>(levels);
+  auto       window = WindowType::New();
+  window->SetInput(lineIntegral);
+  window->SetWindowMinimum(static_cast<float>(low - halfLevel));
+  window->SetWindowMaximum(static_cast<float>(low + width - halfLevel));
+  window->SetOutputMinimum(0);
+  window->SetOutputMaximum(levels);
+  window->Update();
+  WriteImageAtomically(window->GetOutput(), path);
 }
 } // namespace
 
@@ -257,11 +261,11 @@ WriteOutputs(const Options &            options,
   {
     if (outputMode == OutputModeEnum::Gray8)
     {
-      WriteGray<GrayType>(lineIntegral, conversion, options.output);
+      WriteGray<GrayType>(lineIntegral, level - 0.5 * width, width, options.output);
     }
     else
     {
-      WriteGray<Gray16Type>(lineIntegral, conversion, options.output);
+      WriteGray<Gray16Type>(lineIntegral, level - 0.5 * width, width, options.output);
     }
   }
   else
