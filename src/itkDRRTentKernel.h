@@ -37,10 +37,8 @@ struct DRRTentKernel
 {
   /** The enumerator that selects this kernel. */
   static constexpr PointBasedDRREnums::ReconstructionKernel Id = PointBasedDRREnums::ReconstructionKernel::Tent;
-  /** Its name on the command line. */
+  /** Its name: the enumerator prints as its CamelCase (DRRPolicyList::GetEnumeratorName()). */
   static constexpr const char * Name = "tent";
-  /** One line for the help. */
-  static constexpr const char * Description = "voxel centre plus a triangular offset per axis: the trilinear model";
   /** The exact projector of the trilinear model: the dual-grid traversal with 2-point Gauss-Legendre. */
   static constexpr const char * ExactReference = "trilinear";
 
