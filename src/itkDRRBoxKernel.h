@@ -51,7 +51,7 @@ struct DRRBoxKernel
   static double
   Offset(uint32_t bits)
   {
-    return DRRPhiloxRandom::ToUnitInterval(bits) - 0.5;
+    return detail::DRRPhiloxRandom::ToUnitInterval(bits) - 0.5;
   }
 };
 } // namespace itk

@@ -51,7 +51,7 @@ struct DRRTentKernel
   Offset(uint32_t bits)
   {
     // One unconditional square root and a select: vectorizes.
-    const double u = DRRPhiloxRandom::ToUnitInterval(bits);
+    const double u = detail::DRRPhiloxRandom::ToUnitInterval(bits);
     const double root = std::sqrt(2.0 * std::min(u, 1.0 - u));
     return u < 0.5 ? root - 1.0 : 1.0 - root;
   }
