@@ -176,7 +176,7 @@ public:
   GetTableSizeInBytes() const = 0;
 
   /** One line on what the sampler measured of its own draws (e.g. a Markov chain's acceptance rate), for a user's
-   * log (pbdrr --verbose); empty, the default, if there is nothing to say. */
+   * log (a program's verbose output); empty, the default, if there is nothing to say. */
   virtual std::string
   GetStatisticsSummary() const
   {
