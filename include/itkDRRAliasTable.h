@@ -26,6 +26,8 @@
 
 namespace itk
 {
+namespace detail
+{
 /** \class DRRAliasTable
  * \brief Walker's alias method (Vose's construction): draws an index with probability proportional to its weight in
  * O(1) from 64 random bits. Probabilities are held to 2^-32.
@@ -60,6 +62,7 @@ private:
   std::vector<uint32_t> m_Threshold; // keep bucket b if the random word < threshold[b]
   std::vector<uint32_t> m_Alias;
 };
+} // namespace detail
 } // namespace itk
 
 #endif

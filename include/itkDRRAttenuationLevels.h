@@ -26,6 +26,8 @@
 
 namespace itk
 {
+namespace detail
+{
 /** \class DRRAttenuationLevels
  * \brief The paper's hist[l]: the non-air voxels grouped by attenuation level, for the level samplers.
  *
@@ -125,6 +127,7 @@ private:
   std::vector<double>         m_MeanMu;
   std::vector<double>         m_MuSum;
 };
+} // namespace detail
 } // namespace itk
 
 #endif

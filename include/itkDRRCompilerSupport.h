@@ -21,11 +21,15 @@
 #include <cstdint>
 
 /** \file itkDRRCompilerSupport.h
- * \brief The compiler built-ins of the module, in one place, each with a portable fallback.
+ * \brief The compiler built-ins that installed headers use, each with a portable fallback: the engine's, not an API.
  *
  * GCC and Clang get the built-ins the module was written with (the same instructions, hence the same bits); other
  * compilers ITK supports (MSVC) get portable code that computes the same values, or, for the hints (restrict,
- * prefetch, vector clones), nothing: a hint changes speed, never a result.
+ * prefetch), nothing: a hint changes speed, never a result. Only what a header of include/ needs is here: the
+ * attenuation volume's reader prefetches (itkDRRAttenuationVolume.hxx), the projection's batch loop restricts its
+ * pointers (itkDRRPointProjection.h), the random numbers' range reduction multiplies to 128 bits
+ * (itkDRRPhiloxRandom.h). The built-ins only the compiled engine uses are in src/ (itkDRRCompilerBuiltins.h, not
+ * installed).
  * \ingroup PointBasedDRR
  */
 
@@ -47,24 +51,13 @@
 #define PointBasedDRR_PREFETCH(address, rw, locality) static_cast<void>(address)
 #endif
 
-/** \def PointBasedDRR_VECTOR_CLONES
- * Clones of a hot loop for wider vectors, picked once for the CPU at load time (GCC on x86-64 Linux), with its calls
- * inlined (flatten). Every clone gives the same bits: contraction into FMA is off (-ffp-contract=off) and every
- * operation used is correctly rounded. Not under ThreadSanitizer: the clones' resolver runs while the loader relocates
- * the program, before TSan's runtime has started, and GCC instruments it (a crash at load, before main). Empty
- * elsewhere. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&                           \
-  !defined(__SANITIZE_THREAD__)
-#define PointBasedDRR_VECTOR_CLONES __attribute__((target_clones("default", "avx2", "avx512f"), flatten))
-#else
-#define PointBasedDRR_VECTOR_CLONES
-#endif
-
 #if defined(_MSC_VER) && !defined(__clang__)
 #include <intrin.h>
 #endif
 
 namespace itk
+{
+namespace detail
 {
 /** The high 64 bits of the 128-bit product a b. */
 inline uint64_t
@@ -84,68 +77,7 @@ DRRMultiplyHigh64(uint64_t a, uint64_t b)
   return highHigh + (highLow >> 32) + (lowHigh >> 32) + (middle >> 32);
 #endif
 }
-
-/** floor(a b / c) for c > 0 and a result below 2^64, without overflow of the product (128 bits). */
-inline uint64_t
-DRRMultiplyDivide64(uint64_t a, uint64_t b, uint64_t c)
-{
-#if defined(__SIZEOF_INT128__)
-  return static_cast<uint64_t>((static_cast<unsigned __int128>(a) * b) / c);
-#else
-  // The 128-bit product (high, low), then long division one bit at a time: exact.
-  uint64_t       high = DRRMultiplyHigh64(a, b);
-  uint64_t       low = a * b;
-  uint64_t       quotient = 0;
-  uint64_t       remainder = 0;
-  const unsigned bits = 128;
-  for (unsigned bit = 0; bit < bits; ++bit)
-  {
-    const bool carry = (remainder >> 63) != 0;
-    remainder = (remainder << 1) | (high >> 63);
-    high = (high << 1) | (low >> 63);
-    low <<= 1;
-    quotient <<= 1;
-    if (carry || remainder >= c)
-    {
-      remainder -= c;
-      quotient |= 1u;
-    }
-  }
-  return quotient;
-#endif
-}
-
-/** Index of the lowest set bit of bits (bits != 0). */
-inline unsigned int
-DRRCountTrailingZeros64(uint64_t bits)
-{
-#if defined(__GNUC__) || defined(__clang__)
-  return static_cast<unsigned int>(__builtin_ctzll(bits));
-#else
-  unsigned int count = 0;
-  while (!(bits & 1u))
-  {
-    bits >>= 1;
-    ++count;
-  }
-  return count;
-#endif
-}
-
-/** Number of set bits of bits. */
-inline unsigned int
-DRRPopCount64(uint64_t bits)
-{
-#if defined(__GNUC__) || defined(__clang__)
-  return static_cast<unsigned int>(__builtin_popcountll(bits));
-#else
-  // SWAR count (no POPCNT instruction assumed).
-  bits = bits - ((bits >> 1) & 0x5555555555555555ull);
-  bits = (bits & 0x3333333333333333ull) + ((bits >> 2) & 0x3333333333333333ull);
-  bits = (bits + (bits >> 4)) & 0x0F0F0F0F0F0F0F0Full;
-  return static_cast<unsigned int>((bits * 0x0101010101010101ull) >> 56);
-#endif
-}
+} // namespace detail
 } // namespace itk
 
 #endif

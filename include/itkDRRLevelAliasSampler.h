@@ -62,10 +62,7 @@ public:
   Initialize(const DRRAttenuationVolume & volume) override;
 
   void
-  GenerateBatch(DRRPhiloxRandom &   random,
-                const SampleRange & range,
-                uint64_t *          voxelIndex,
-                double *            weight) const override;
+  GenerateBatch(RandomType & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const override;
 
   size_t
   GetTableSizeInBytes() const override;
@@ -77,7 +74,7 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  DRRAliasTable m_AliasTable;
+  detail::DRRAliasTable m_AliasTable;
 };
 } // namespace itk
 

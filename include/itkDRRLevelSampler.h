@@ -80,7 +80,7 @@ protected:
   }
 
   /** The levels of the volume the sampler was initialized with. */
-  DRRAttenuationLevels m_Levels;
+  detail::DRRAttenuationLevels m_Levels;
 
 private:
   unsigned int m_NumberOfBins{ 4096 };

@@ -71,10 +71,7 @@ public:
   Initialize(const DRRAttenuationVolume & volume) override;
 
   void
-  GenerateBatch(DRRPhiloxRandom &   random,
-                const SampleRange & range,
-                uint64_t *          voxelIndex,
-                double *            weight) const override;
+  GenerateBatch(RandomType & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const override;
 
   /** Dependent points (one chain per batch): the standard error comes from independent strata (16 by default). */
   DRRSamplerTraits
@@ -116,19 +113,19 @@ protected:
 private:
   /** One chain step from level current; returns the next level. */
   uint32_t
-  Step(uint32_t current, const DRRPhiloxRandom::BlockType & bits) const
+  Step(uint32_t current, const RandomType::BlockType & bits) const
   {
-    const uint32_t proposal = DRRPhiloxRandom::ToRange32(bits[0], static_cast<uint32_t>(m_Levels.GetNumberOfLevels()));
+    const uint32_t proposal = RandomType::ToRange32(bits[0], static_cast<uint32_t>(m_Levels.GetNumberOfLevels()));
     const double   ratio = m_Levels.GetMuSum(proposal) / m_Levels.GetMuSum(current);
-    return ratio >= 1.0 || DRRPhiloxRandom::ToUnitInterval(bits[1]) < ratio ? proposal : current;
+    return ratio >= 1.0 || RandomType::ToUnitInterval(bits[1]) < ratio ? proposal : current;
   }
   void
   MeasureChain();
 
-  unsigned int  m_BurnIn{ 0 };
-  DRRAliasTable m_AliasTable;
-  double        m_AutocorrelationTime{ 1.0 };
-  double        m_AcceptanceRate{ 1.0 };
+  unsigned int          m_BurnIn{ 0 };
+  detail::DRRAliasTable m_AliasTable;
+  double                m_AutocorrelationTime{ 1.0 };
+  double                m_AcceptanceRate{ 1.0 };
 };
 } // namespace itk
 

@@ -25,6 +25,8 @@
 
 namespace itk
 {
+namespace detail
+{
 /** \class DRRPhiloxRandom
  * \brief Counter-based random numbers (Philox4x32-10, Salmon et al., SC 2011) for reproducible parallel sampling.
  *
@@ -68,7 +70,7 @@ public:
   ToRange(uint32_t low, uint32_t high, uint64_t n)
   {
     const uint64_t bits = (static_cast<uint64_t>(high) << 32) | low;
-    return DRRMultiplyHigh64(bits, n);
+    return detail::DRRMultiplyHigh64(bits, n);
   }
 
   /** Uniform integer in [0, n) from 32 random bits, n < 2^32 (non-uniformity below n / 2^32). */
@@ -105,6 +107,7 @@ private:
   std::array<uint32_t, 2> m_Key;
   BlockType               m_Counter;
 };
+} // namespace detail
 } // namespace itk
 
 #endif

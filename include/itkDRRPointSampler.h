@@ -66,6 +66,10 @@ public:
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
+  /** The random stream a sampler draws from: counter-based, keyed by the render's seed and addressed by chunk, so that
+   * a seeded render is the same on any number of threads. An engine type (itk::detail), named here for samplers. */
+  using RandomType = detail::DRRPhiloxRandom;
+
   /** Run-time type information (and related methods). */
   itkOverrideGetNameOfClassMacro(DRRPointSampler);
 
@@ -106,7 +110,7 @@ public:
    * the one method a simple sampler writes (the default GenerateCoordinates() calls it). A sampler that overrides
    * GenerateCoordinates() instead need not write it: the default throws. */
   virtual void
-  GenerateBatch(DRRPhiloxRandom & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const;
+  GenerateBatch(RandomType & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const;
 
   /** Where a sampler left off in a chunk: the renderer hands the same cursor to the consecutive batches of one chunk
    * (invalid at the start of every chunk), so a sampler that walks its tables in order need not search them again.
@@ -162,7 +166,7 @@ public:
    * divisions, and a cursor instead of a search per batch). */
   virtual void
   GenerateCoordinates(const DRRSamplerViewPlan & plan,
-                      DRRPhiloxRandom &          random,
+                      RandomType &               random,
                       const SampleRange &        range,
                       Cursor &                   cursor,
                       const CoordinateBatch &    batch) const;
@@ -172,7 +176,7 @@ public:
   GetTableSizeInBytes() const = 0;
 
   /** One line on what the sampler measured of its own draws (e.g. a Markov chain's acceptance rate), for a user's
-   * log (pbdrr --verbose); empty, the default, if there is nothing to say. */
+   * log (a program's verbose output); empty, the default, if there is nothing to say. */
   virtual std::string
   GetStatisticsSummary() const
   {

@@ -25,6 +25,8 @@
 
 namespace itk
 {
+namespace detail
+{
 /** \class DRRPoissonSampler
  * \brief Poisson random counts from a DRRPhiloxRandom stream: reproducible bit for bit, wherever they are drawn.
  *
@@ -120,6 +122,7 @@ private:
   DRRPhiloxRandom::BlockType m_Block{};
   unsigned int               m_Next{ 2 };
 };
+} // namespace detail
 } // namespace itk
 
 #endif

@@ -48,8 +48,8 @@ namespace itk
  * | `mirror` | 0 or 1 | SetColumnsMirrored() |
  *
  * Reading applies the keys in file order to the geometry given, so keys not in the file keep the geometry's values;
- * an unknown key, a wrong number of values or a value that is not a finite number (DRRNumberParser) throws an
- * ExceptionObject naming the line (`file:line: `), after the lines before it have been applied.
+ * an unknown key, a wrong number of values or a value that is not a finite number (in the strict form of the module's
+ * text inputs) throws an ExceptionObject naming the line (`file:line: `), after the lines before it have been applied.
  *
  * Writing writes every key, numbers in the shortest decimal form that reads back to the same double (hexadecimal,
  * `%a`, for a subnormal number, whose decimal form the reader refuses), so that reading the file into any geometry
@@ -62,7 +62,7 @@ namespace itk
  * Other formats (projection matrices, RTK's XML) are meant to be sibling IO classes, as ITK has an ImageIO or a
  * TransformIO per file format. DRRProjectionGeometry::ReadGeometryFile() and ReadGeometry() call this class.
  *
- * \sa DRRProjectionGeometry, DRRNumberParser
+ * \sa DRRProjectionGeometry
  * \ingroup PointBasedDRR
  */
 class PointBasedDRR_EXPORT DRRProjectionGeometryFileIO : public Object

@@ -42,7 +42,7 @@ DRRQuantumNoiseImageFilter<TImage>::BeforeThreadedGenerateData()
   }
   const ImageType * input = this->GetInput();
   // The smallest line integral whose mean count I0 exp(-L) the sampler takes.
-  const double lowest = std::log(m_NumberOfPhotons / DRRPoissonSampler::MaximumMean);
+  const double lowest = std::log(m_NumberOfPhotons / detail::DRRPoissonSampler::MaximumMean);
   for (ImageRegionConstIteratorWithIndex<ImageType> it(input, input->GetBufferedRegion()); !it.IsAtEnd(); ++it)
   {
     const double value = static_cast<double>(it.Get());
@@ -66,11 +66,11 @@ DRRQuantumNoiseImageFilter<TImage>::DynamicThreadedGenerateData(const OutputImag
   for (ImageRegionConstIteratorWithIndex<ImageType> in(input, region); !in.IsAtEnd(); ++in, ++out)
   {
     // The pixel's own stream, addressed by its offset in the image: the same count on any split into regions.
-    const auto        pixel = static_cast<uint64_t>(output->ComputeOffset(in.GetIndex()));
-    DRRPhiloxRandom   stream(m_Seed, pixel, 3);
-    DRRPoissonSampler sampler(stream);
-    const uint64_t    count = sampler.Sample(m_NumberOfPhotons * std::exp(-static_cast<double>(in.Get())));
-    const double      counted = count > 0 ? static_cast<double>(count) : 0.5; // no photon reads as half a photon
+    const auto                pixel = static_cast<uint64_t>(output->ComputeOffset(in.GetIndex()));
+    detail::DRRPhiloxRandom   stream(m_Seed, pixel, 3);
+    detail::DRRPoissonSampler sampler(stream);
+    const uint64_t            count = sampler.Sample(m_NumberOfPhotons * std::exp(-static_cast<double>(in.Get())));
+    const double counted = count > 0 ? static_cast<double>(count) : 0.5; // no photon reads as half a photon
     out.Set(static_cast<typename ImageType::PixelType>(logPhotons - std::log(counted)));
   }
 }

@@ -27,12 +27,13 @@
 namespace itk
 {
 /** \class DRRSamplerFactory
- * \brief The registry of samplers: the ones a user can pick by name (the CLI's --sampler), each registered by one entry
- * in itkDRRSamplerFactory.cxx.
+ * \brief The registry of samplers: the ones a user can pick by name, each registered by one entry in
+ * itkDRRSamplerFactory.cxx.
  *
- * The registry is the one list of samplers: pbdrr's help and parsing, the tests that run every sampler (unbiasedness,
- * reuse, robustness, fuzzing) and the checks of the wrapping, the README and docs/wrapping.md are derived from it or
- * checked against it (test PointBasedDRR.PolicyRegistry). A new sampler is its own class and one entry here.
+ * The registry is the one list of samplers: programs that offer a choice of sampler (pbdrr's --sampler), the tests
+ * that run every sampler (unbiasedness, reuse, robustness, fuzzing) and the checks of the wrapping, the README and
+ * docs/wrapping.md are derived from it or checked against it (test PointBasedDRR.PolicyRegistry). A new sampler is its
+ * own class and one entry here.
  *
  * Names: `stratified` (DRRStratifiedSampler, the default), `level-alias` (DRRLevelAliasSampler), `metropolis`
  * (DRRMetropolisSampler), `paper-hybrid` (DRRPaperHybridSampler), `mcvr` (DRRUniformVolumeSampler).
@@ -50,11 +51,10 @@ public:
   /** A registered sampler. */
   struct Entry
   {
-    std::string Name;                     ///< what Create() and the CLI's --sampler take, e.g. `level-alias`
-    std::string Description;              ///< one line for the CLI's help
+    std::string Name;                     ///< what Create() takes, e.g. `level-alias`
     DRRPointSampler::Pointer (*Create)(); ///< makes a new sampler with its default settings
     /** Makes the sampler as the paper runs it, with the paper's own (biased) counting where that differs from the
-     * default (pbdrr --paper-count); null where the sampler has no such variant. */
+     * default (Create(name, true)); null where the sampler has no such variant. */
     DRRPointSampler::Pointer (*CreatePaperVariant)() = nullptr;
   };
 

@@ -108,7 +108,7 @@ public:
   /** Walks the plan's bricks along the curve (see the class description). */
   void
   GenerateCoordinates(const DRRSamplerViewPlan & plan,
-                      DRRPhiloxRandom &          random,
+                      RandomType &               random,
                       const SampleRange &        range,
                       Cursor &                   cursor,
                       const CoordinateBatch &    batch) const override;

@@ -54,10 +54,7 @@ public:
   Initialize(const DRRAttenuationVolume & volume) override;
 
   void
-  GenerateBatch(DRRPhiloxRandom &   random,
-                const SampleRange & range,
-                uint64_t *          voxelIndex,
-                double *            weight) const override;
+  GenerateBatch(RandomType & random, const SampleRange & range, uint64_t * voxelIndex, double * weight) const override;
 
   size_t
   GetTableSizeInBytes() const override

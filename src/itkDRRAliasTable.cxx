@@ -23,6 +23,8 @@
 
 namespace itk
 {
+namespace detail
+{
 void
 DRRAliasTable::Build(const std::vector<double> & levelMass)
 {
@@ -75,4 +77,5 @@ DRRAliasTable::Build(const std::vector<double> & levelMass)
   }
 }
 
+} // namespace detail
 } // namespace itk

@@ -24,6 +24,8 @@
 
 namespace itk
 {
+namespace detail
+{
 namespace
 {
 /** The float bits of mu > 0: they grow with mu, piecewise linearly in log2 mu, 2^23 per octave. Denormals are
@@ -252,4 +254,5 @@ DRRAttenuationLevels::GetSizeInBytes() const
   return m_NumberOfVoxels * sizeof(uint32_t) +
          m_Count.size() * (sizeof(uint64_t) + sizeof(uint32_t) + 2 * sizeof(double));
 }
+} // namespace detail
 } // namespace itk

@@ -501,7 +501,7 @@ DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projec
       rows,
       [&](unsigned int, uint64_t row) {
         // Stream 2 of the row (the point renders use streams 0 and 1 of their chunks): the same rays on any threads.
-        DRRPhiloxRandom stream(seed, row, 2);
+        detail::DRRPhiloxRandom stream(seed, row, 2);
         for (unsigned int column = 0; column < columns; ++column)
         {
           double replicate[2] = { 0.0, 0.0 };
@@ -517,9 +517,9 @@ DRRExactRayIntegrator::RenderFootprintAverages(const DRRPointProjection & projec
                 // Each is distributed as the footprint (FootprintOffset maps uniform to it), so their mean is
                 // unbiased; the mirror cancels the linear part of L across the stratum, which dominates the spread of
                 // a lone jittered ray (DESIGN 10; docs/design.md, "the coarse image").
-                const DRRPhiloxRandom::BlockType bits = stream.Next();
-                const double                     ju = DRRPhiloxRandom::ToUnitInterval(bits[0]);
-                const double                     jv = DRRPhiloxRandom::ToUnitInterval(bits[1]);
+                const detail::DRRPhiloxRandom::BlockType bits = stream.Next();
+                const double                             ju = detail::DRRPhiloxRandom::ToUnitInterval(bits[0]);
+                const double                             jv = detail::DRRPhiloxRandom::ToUnitInterval(bits[1]);
                 sum +=
                   this->IntegrateRay(projection,
                                      static_cast<double>(column) + SplatType::FootprintOffset((su + ju) * inverseRays),

@@ -33,10 +33,10 @@ DRRLevelAliasSampler::Initialize(const DRRAttenuationVolume & volume)
 }
 
 void
-DRRLevelAliasSampler::GenerateBatch(DRRPhiloxRandom &   random,
-                                    const SampleRange & range,
-                                    uint64_t *          voxelIndex,
-                                    double *            weight) const
+DRRLevelAliasSampler::GenerateBatch(detail::DRRPhiloxRandom & random,
+                                    const SampleRange &       range,
+                                    uint64_t *                voxelIndex,
+                                    double *                  weight) const
 {
   // Blocks of samples in two passes: draw every level and rank, prefetching the list entry, then read the entries.
   // The random reads of a block then overlap instead of waiting one after another (same draws, same results).
@@ -48,9 +48,9 @@ DRRLevelAliasSampler::GenerateBatch(DRRPhiloxRandom &   random,
     const uint64_t count = std::min(block, range.Count - first);
     for (uint64_t i = 0; i < count; ++i)
     {
-      const DRRPhiloxRandom::BlockType bits = random.Next();
+      const detail::DRRPhiloxRandom::BlockType bits = random.Next();
       levels[i] = m_AliasTable.Draw(bits[0], bits[1]);
-      ranks[i] = DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(levels[i]));
+      ranks[i] = detail::DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(levels[i]));
       PointBasedDRR_PREFETCH(m_Levels.GetVoxelAddress(levels[i], ranks[i]), 0, 3);
     }
     for (uint64_t i = 0; i < count; ++i)

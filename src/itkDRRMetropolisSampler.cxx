@@ -58,10 +58,10 @@ DRRMetropolisSampler::MeasureChain()
   DRRAttenuationVolume::ParallelizeBlocks(
     numberOfChains,
     [&](uint64_t c) {
-      ChainSums &     chain = chains[c];
-      DRRPhiloxRandom random(0, ~uint64_t{ 0 } - c, 3);
-      const auto      start = random.Next();
-      uint32_t        level = m_AliasTable.Draw(start[0], start[1]);
+      ChainSums &             chain = chains[c];
+      detail::DRRPhiloxRandom random(0, ~uint64_t{ 0 } - c, 3);
+      const auto              start = random.Next();
+      uint32_t                level = m_AliasTable.Draw(start[0], start[1]);
       for (uint64_t b = 0; b < batchesPerChain; ++b)
       {
         double batchSum = 0.0;
@@ -100,27 +100,27 @@ DRRMetropolisSampler::MeasureChain()
 }
 
 void
-DRRMetropolisSampler::GenerateBatch(DRRPhiloxRandom &   random,
-                                    const SampleRange & range,
-                                    uint64_t *          voxelIndex,
-                                    double *            weight) const
+DRRMetropolisSampler::GenerateBatch(detail::DRRPhiloxRandom & random,
+                                    const SampleRange &       range,
+                                    uint64_t *                voxelIndex,
+                                    double *                  weight) const
 {
   if (m_Levels.GetNumberOfLevels() == 0)
   {
     return;
   }
-  const DRRPhiloxRandom::BlockType start = random.Next();
-  uint32_t                         level = m_AliasTable.Draw(start[0], start[1]);
+  const detail::DRRPhiloxRandom::BlockType start = random.Next();
+  uint32_t                                 level = m_AliasTable.Draw(start[0], start[1]);
   for (unsigned int i = 0; i < m_BurnIn; ++i)
   {
     level = this->Step(level, random.Next());
   }
   for (uint64_t i = 0; i < range.Count; ++i)
   {
-    const DRRPhiloxRandom::BlockType bits = random.Next();
+    const detail::DRRPhiloxRandom::BlockType bits = random.Next();
     level = this->Step(level, bits);
     const uint32_t voxel =
-      m_Levels.GetVoxel(level, DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(level)));
+      m_Levels.GetVoxel(level, detail::DRRPhiloxRandom::ToRange(bits[2], bits[3], m_Levels.GetCount(level)));
     voxelIndex[i] = voxel;
     weight[i] = m_Levels.GetCorrection(voxel, level);
   }

@@ -90,10 +90,10 @@ DRRPaperHybridSampler::Initialize(const DRRAttenuationVolume & volume)
 }
 
 void
-DRRPaperHybridSampler::GenerateBatch(DRRPhiloxRandom &   random,
-                                     const SampleRange & range,
-                                     uint64_t *          voxelIndex,
-                                     double *            weight) const
+DRRPaperHybridSampler::GenerateBatch(detail::DRRPhiloxRandom & random,
+                                     const SampleRange &       range,
+                                     uint64_t *                voxelIndex,
+                                     double *                  weight) const
 {
   const uint64_t count = range.Count;
   const uint32_t levels = static_cast<uint32_t>(m_Levels.GetNumberOfLevels());
@@ -102,22 +102,22 @@ DRRPaperHybridSampler::GenerateBatch(DRRPhiloxRandom &   random,
     uint32_t level = 0;
     for (;;)
     {
-      const DRRPhiloxRandom::BlockType bits = random.Next();
-      level = DRRPhiloxRandom::ToRange32(bits[0], levels);
-      if (!(DRRPhiloxRandom::ToUnitInterval(bits[1]) <= m_Acceptance[level]))
+      const detail::DRRPhiloxRandom::BlockType bits = random.Next();
+      level = detail::DRRPhiloxRandom::ToRange32(bits[0], levels);
+      if (!(detail::DRRPhiloxRandom::ToUnitInterval(bits[1]) <= m_Acceptance[level]))
       {
         continue; // rejected against p(l)
       }
-      if (!(DRRPhiloxRandom::ToUnitInterval(bits[2]) <= m_SizeFraction[level]) &&
-          !(DRRPhiloxRandom::ToUnitInterval(bits[3]) <= m_RouletteSurvival))
+      if (!(detail::DRRPhiloxRandom::ToUnitInterval(bits[2]) <= m_SizeFraction[level]) &&
+          !(detail::DRRPhiloxRandom::ToUnitInterval(bits[3]) <= m_RouletteSurvival))
       {
         continue; // a small level lost the roulette
       }
       break;
     }
-    const DRRPhiloxRandom::BlockType bits = random.Next();
-    const uint32_t                   voxel =
-      m_Levels.GetVoxel(level, DRRPhiloxRandom::ToRange(bits[0], bits[1], m_Levels.GetCount(level)));
+    const detail::DRRPhiloxRandom::BlockType bits = random.Next();
+    const uint32_t                           voxel =
+      m_Levels.GetVoxel(level, detail::DRRPhiloxRandom::ToRange(bits[0], bits[1], m_Levels.GetCount(level)));
     voxelIndex[i] = voxel;
     weight[i] = m_UseExactWeights ? m_LevelWeight[level] * m_Levels.GetCorrection(voxel, level) : 1.0;
   }

@@ -53,9 +53,9 @@ public:
   inline void
   DrawChunk(uint64_t chunk, const Strata & strata, Batch & batch, TConsume && consume) const
   {
-    const uint64_t  end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
-    DRRPhiloxRandom samplerStream(m_Seed, chunk, 0);
-    DRRPhiloxRandom kernelStream(m_Seed, chunk, 1);
+    const uint64_t end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
+    detail::DRRPhiloxRandom      samplerStream(m_Seed, chunk, 0);
+    detail::DRRPhiloxRandom      kernelStream(m_Seed, chunk, 1);
     DRRPointSampler::Cursor      cursor;
     DRRPointSampler::SampleRange range;
     range.Seed = m_Seed;
@@ -102,7 +102,7 @@ public:
 private:
   /** The voxels (and weights, strata, jitter) of a batch: the sampler's one coordinate path. */
   void
-  DrawVoxels(DRRPhiloxRandom &                    stream,
+  DrawVoxels(detail::DRRPhiloxRandom &            stream,
              const DRRPointSampler::SampleRange & range,
              DRRPointSampler::Cursor &            cursor,
              Batch &                              batch) const
@@ -134,11 +134,11 @@ private:
   }
 
   static void
-  DrawJitter(DRRPhiloxRandom & stream, uint64_t count, Batch & batch)
+  DrawJitter(detail::DRRPhiloxRandom & stream, uint64_t count, Batch & batch)
   {
     for (uint64_t s = 0; s < count; ++s)
     {
-      const DRRPhiloxRandom::BlockType bits = stream.Next();
+      const detail::DRRPhiloxRandom::BlockType bits = stream.Next();
       batch.JitterX[s] = bits[0];
       batch.JitterY[s] = bits[1];
       batch.JitterZ[s] = bits[2];

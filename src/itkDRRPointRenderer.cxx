@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRPointRenderer.h"
-#include "itkDRRCompilerSupport.h"
+#include "itkDRRCompilerBuiltins.h"
 #include "itkDRRPointDrawer.h"
 #include "itkDRRPointSplatter.h"
 #include "itkDRRPolicies.h"

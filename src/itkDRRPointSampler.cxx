@@ -20,7 +20,7 @@
 namespace itk
 {
 void
-DRRPointSampler::GenerateBatch(DRRPhiloxRandom &, const SampleRange &, uint64_t *, double *) const
+DRRPointSampler::GenerateBatch(detail::DRRPhiloxRandom &, const SampleRange &, uint64_t *, double *) const
 {
   itkExceptionMacro("draws voxel coordinates only (GenerateCoordinates()), not linear voxel indices");
 }
@@ -35,7 +35,7 @@ DRRPointSampler::MakeViewPlan(const DRRAttenuationVolume & volume, const DRRPoin
 
 void
 DRRPointSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
-                                     DRRPhiloxRandom &          random,
+                                     detail::DRRPhiloxRandom &  random,
                                      const SampleRange &        range,
                                      Cursor &,
                                      const CoordinateBatch & batch) const

@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRRenderPlan.h"
-#include "itkDRRCompilerSupport.h"
+#include "itkDRRCompilerBuiltins.h"
 #include "itkDRRPolicies.h"
 
 #include <algorithm>

@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRRenderReduction.h"
-#include "itkDRRCompilerSupport.h"
+#include "itkDRRCompilerBuiltins.h"
 
 #include <algorithm>
 #include <cmath>

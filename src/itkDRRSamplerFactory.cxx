@@ -47,20 +47,11 @@ const std::vector<DRRSamplerFactory::Entry> &
 DRRSamplerFactory::GetEntries()
 {
   static const std::vector<Entry> entries = {
-    { "level-alias",
-      "exact importance sampling: a level by alias table, a voxel uniform in it",
-      &Make<DRRLevelAliasSampler> },
-    { "paper-hybrid",
-      "the paper's Algorithm 1 (uniform level, accept, roulette) with exact weights",
-      &Make<DRRPaperHybridSampler>,
-      &MakeUnweightedPaperHybrid },
-    { "metropolis",
-      "the paper's Markov chain over levels, started in its stationary law",
-      &Make<DRRMetropolisSampler> },
-    { "stratified",
-      "systematic along a Morton curve of the mass, culled to the view: least noise",
-      &Make<DRRStratifiedSampler> },
-    { "mcvr", "Monte Carlo volume rendering baseline: uniform voxels weighted by mu", &Make<DRRUniformVolumeSampler> },
+    { "level-alias", &Make<DRRLevelAliasSampler> },
+    { "paper-hybrid", &Make<DRRPaperHybridSampler>, &MakeUnweightedPaperHybrid },
+    { "metropolis", &Make<DRRMetropolisSampler> },
+    { "stratified", &Make<DRRStratifiedSampler> },
+    { "mcvr", &Make<DRRUniformVolumeSampler> },
   };
   return entries;
 }

@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRStratifiedSampler.h"
-#include "itkDRRCompilerSupport.h"
+#include "itkDRRCompilerBuiltins.h"
 #include "itkMultiThreaderBase.h"
 
 #include <algorithm>
@@ -526,11 +526,11 @@ StartStrata(const DRRPointSampler::SampleRange & range)
   for (uint64_t r = 0; r < numberOfStrata; ++r)
   {
     // Streams of the stratum's own: the same for every chunk on every thread.
-    const uint64_t                   id = numberOfStrata > 1 ? r : range.Stratum;
-    DRRPhiloxRandom                  offsetStream(range.Seed, id, 2);
-    const DRRPhiloxRandom::BlockType u = offsetStream.Next();
-    DRRPhiloxRandom                  shiftStream(range.Seed, id, 4);
-    const DRRPhiloxRandom::BlockType a = shiftStream.Next();
+    const uint64_t                           id = numberOfStrata > 1 ? r : range.Stratum;
+    detail::DRRPhiloxRandom                  offsetStream(range.Seed, id, 2);
+    const detail::DRRPhiloxRandom::BlockType u = offsetStream.Next();
+    detail::DRRPhiloxRandom                  shiftStream(range.Seed, id, 4);
+    const detail::DRRPhiloxRandom::BlockType a = shiftStream.Next();
     strata[r].Offset = static_cast<double>((static_cast<uint64_t>(u[1]) << 21) ^ (u[0] >> 11)) * 0x1.0p-53;
     strata[r].Id = static_cast<uint32_t>(id);
     strata[r].Shift[0] = (uint64_t{ a[0] } << 32) | a[1];
@@ -545,7 +545,7 @@ StartStrata(const DRRPointSampler::SampleRange & range)
 
 void
 DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
-                                          DRRPhiloxRandom &,
+                                          detail::DRRPhiloxRandom &,
                                           const SampleRange &     range,
                                           Cursor &                cursor,
                                           const CoordinateBatch & batch) const

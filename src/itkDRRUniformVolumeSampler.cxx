@@ -34,16 +34,16 @@ DRRUniformVolumeSampler::Initialize(const DRRAttenuationVolume & volume)
 }
 
 void
-DRRUniformVolumeSampler::GenerateBatch(DRRPhiloxRandom &   random,
-                                       const SampleRange & range,
-                                       uint64_t *          voxelIndex,
-                                       double *            weight) const
+DRRUniformVolumeSampler::GenerateBatch(detail::DRRPhiloxRandom & random,
+                                       const SampleRange &       range,
+                                       uint64_t *                voxelIndex,
+                                       double *                  weight) const
 {
   const uint64_t count = range.Count;
   for (uint64_t i = 0; i < count; ++i)
   {
-    const DRRPhiloxRandom::BlockType bits = random.Next();
-    const uint64_t                   voxel = DRRPhiloxRandom::ToRange(bits[0], bits[1], m_NumberOfVoxels);
+    const detail::DRRPhiloxRandom::BlockType bits = random.Next();
+    const uint64_t voxel = detail::DRRPhiloxRandom::ToRange(bits[0], bits[1], m_NumberOfVoxels);
     voxelIndex[i] = voxel;
     weight[i] = static_cast<double>(m_Mu[voxel]) * m_WeightPerMu;
   }

@@ -41,9 +41,9 @@ struct Moments
 Moments
 DrawCounts(double mean, uint64_t chunk, size_t n, std::vector<uint64_t> * counts = nullptr)
 {
-  itk::DRRPhiloxRandom   stream(7, chunk, 3);
-  itk::DRRPoissonSampler sampler(stream);
-  double                 sum = 0.0, sumOfSquares = 0.0, zeros = 0.0;
+  itk::detail::DRRPhiloxRandom   stream(7, chunk, 3);
+  itk::detail::DRRPoissonSampler sampler(stream);
+  double                         sum = 0.0, sumOfSquares = 0.0, zeros = 0.0;
   for (size_t i = 0; i < n; ++i)
   {
     const uint64_t count = sampler.Sample(mean);

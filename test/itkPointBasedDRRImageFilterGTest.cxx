@@ -973,7 +973,7 @@ TEST(PointBasedDRRRefine, IsReproducibleCountsItsPointsAndRefusesStaleSettings)
 TEST(PointBasedDRRRandom, PhiloxMatchesRandom123KnownAnswers)
 {
   // Known-answer vectors of Philox4x32-10 from the Random123 distribution (kat_vectors).
-  using R = itk::DRRPhiloxRandom;
+  using R = itk::detail::DRRPhiloxRandom;
   EXPECT_EQ(R::Philox({ { 0, 0, 0, 0 } }, { { 0, 0 } }),
             (R::BlockType{ { 0x6627e8d5u, 0xe169c58du, 0xbc57ac4cu, 0x9b00dbd8u } }));
   EXPECT_EQ(R::Philox({ { 0xffffffffu, 0xffffffffu, 0xffffffffu, 0xffffffffu } }, { { 0xffffffffu, 0xffffffffu } }),

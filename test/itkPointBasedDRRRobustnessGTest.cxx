@@ -1686,7 +1686,7 @@ SamplerFingerprint(const std::string & name, const itk::DRRAttenuationVolume & v
   range.Seed = 5;
   range.Count = count;
   range.StratumSize = count;
-  itk::DRRPhiloxRandom random(5, 0, 0);
+  itk::detail::DRRPhiloxRandom random(5, 0, 0);
   sampler->GenerateBatch(random, range, voxels.data(), weights.data());
   std::vector<double> fingerprint(weights);
   fingerprint.insert(fingerprint.end(), voxels.begin(), voxels.end());

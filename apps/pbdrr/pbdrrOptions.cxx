@@ -32,6 +32,55 @@
 
 namespace pbdrr
 {
+namespace
+{
+/** pbdrr's one line of help per policy, by the name the library registers it under (the kernels, splats and beams of
+ * itkDRRPolicies.h, the samplers of DRRSamplerFactory). The library registers a policy once, with its name; what the
+ * help says about it is the program's, here and nowhere else. PolicyRegistry.* checks that every registered name has
+ * a line and every line a registered name. */
+const std::map<std::string, std::string> &
+PolicyHelpLines()
+{
+  static const std::map<std::string, std::string> lines = {
+    // samplers (--sampler)
+    { "level-alias", "exact importance sampling: a level by alias table, a voxel uniform in it" },
+    { "paper-hybrid", "the paper's Algorithm 1 (uniform level, accept, roulette) with exact weights" },
+    { "metropolis", "the paper's Markov chain over levels, started in its stationary law" },
+    { "stratified", "systematic along a Morton curve of the mass, culled to the view: least noise" },
+    { "mcvr", "Monte Carlo volume rendering baseline: uniform voxels weighted by mu" },
+    // reconstruction kernels (--kernel)
+    { "box", "uniform in the voxel: the piecewise-constant model" },
+    { "tent", "voxel centre plus a triangular offset per axis: the trilinear model" },
+    // splats (--splat)
+    { "nearest", "the whole point to the pixel that contains it: unbiased" },
+    { "bilinear", "shared among the 4 nearest pixel centres: less noise, a one-pixel blur" },
+    // beams (--projection)
+    { "perspective", "rays from the source to every pixel, perspective weights" },
+    { "parallel", "lines along the detector normal through every pixel, weight 1" },
+    { "localizer", "a CT scout: a fan across the table (columns), parallel along it (rows)" },
+  };
+  return lines;
+}
+} // namespace
+
+std::string
+PolicyHelpLine(const std::string & name)
+{
+  const auto found = PolicyHelpLines().find(name);
+  return found == PolicyHelpLines().end() ? std::string() : found->second;
+}
+
+std::vector<std::string>
+PolicyHelpNames()
+{
+  std::vector<std::string> names;
+  for (const auto & line : PolicyHelpLines())
+  {
+    names.push_back(line.first);
+  }
+  return names;
+}
+
 std::string
 ExactReferenceName(itk::PointBasedDRREnums::ReconstructionKernel kernel)
 {
@@ -306,7 +355,7 @@ IsBatch(const Options & options)
 
 namespace
 {
-/** The help's list of a policy option's values: a line per name, with its description. */
+/** The help's list of a policy option's values: a line per registered name, with its help line (PolicyHelpLine()). */
 template <typename TEntries>
 std::string
 PolicyChoices(const TEntries & entries)
@@ -320,7 +369,7 @@ PolicyChoices(const TEntries & entries)
   for (const auto & entry : entries)
   {
     lines << "                           " << entry.Name << std::string(width + 2 - entry.Name.size(), ' ')
-          << entry.Description << "\n";
+          << PolicyHelpLine(entry.Name) << "\n";
   }
   return lines.str();
 }

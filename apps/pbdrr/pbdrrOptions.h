@@ -210,6 +210,16 @@ ParseNumber(const std::string & text, const std::string & flag);
 std::string
 ExactReferenceName(itk::PointBasedDRREnums::ReconstructionKernel kernel);
 
+/** pbdrr's help line for a registered policy (a kernel, splat or beam of itkDRRPolicies.h, a sampler of
+ * DRRSamplerFactory), by its registered name; empty for a name without one. The library registers each policy once,
+ * with its name; the help's words about it are pbdrr's, in one table (pbdrrOptions.cxx). */
+std::string
+PolicyHelpLine(const std::string & name);
+
+/** The names PolicyHelpLine() has a line for, sorted. */
+std::vector<std::string>
+PolicyHelpNames();
+
 /** The text of pbdrr --help: the options from OptionDeclarations(), group by group (OptionGroup); the policy lists
  * from the registries (itkDRRPolicies.h, DRRSamplerFactory). */
 std::string

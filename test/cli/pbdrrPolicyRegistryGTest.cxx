@@ -103,7 +103,7 @@ CheckPolicyList(const std::string & option)
   {
     EXPECT_TRUE(names.insert(entry.Name).second) << "duplicate name " << entry.Name;
     EXPECT_EQ(entry.Name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-"), std::string::npos) << entry.Name;
-    EXPECT_FALSE(entry.Description.empty()) << entry.Name;
+    EXPECT_FALSE(pbdrr::PolicyHelpLine(entry.Name).empty()) << entry.Name << " has no line in pbdrr's help table";
     EXPECT_EQ(TPolicies::GetName(entry.Id), entry.Name);
     EXPECT_EQ(TPolicies::Visit(entry.Id, [](auto policy) { return std::string(decltype(policy)::Name); }), entry.Name)
       << "the dispatch must reach the policy registered for the enumerator";
@@ -115,8 +115,8 @@ CheckPolicyList(const std::string & option)
     EXPECT_EQ(parsed, entry.Id);
     if (!option.empty())
     {
-      EXPECT_TRUE(HelpLists(help, entry.Name, entry.Description))
-        << "pbdrr --help must list " << entry.Name << " with its description";
+      EXPECT_TRUE(HelpLists(help, entry.Name, pbdrr::PolicyHelpLine(entry.Name)))
+        << "pbdrr --help must list " << entry.Name << " with its help line";
       EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", option, entry.Name }), "") << option << " " << entry.Name;
     }
   }
@@ -182,7 +182,9 @@ TEST(PolicyRegistry, SamplersAreRegisteredOnceAndListedEverywhere)
     const auto sampler = itk::DRRSamplerFactory::Create(entry.Name);
     ASSERT_NE(sampler, nullptr) << entry.Name;
     const std::string className = sampler->GetNameOfClass();
-    EXPECT_TRUE(HelpLists(help, entry.Name, entry.Description)) << "pbdrr --help must list " << entry.Name;
+    EXPECT_FALSE(pbdrr::PolicyHelpLine(entry.Name).empty()) << entry.Name << " has no line in pbdrr's help table";
+    EXPECT_TRUE(HelpLists(help, entry.Name, pbdrr::PolicyHelpLine(entry.Name)))
+      << "pbdrr --help must list " << entry.Name;
     EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--sampler", entry.Name }), "") << entry.Name;
     EXPECT_NE(readme.find("| `" + entry.Name + "`"), std::string::npos)
       << "the README's sampler table needs a row for " << entry.Name;
@@ -209,6 +211,35 @@ TEST(PolicyRegistry, SamplersAreRegisteredOnceAndListedEverywhere)
     << "] must be the first entries of the registry, in order: " << Joined(quoted);
   EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", "--sampler", "foo" }),
             "--sampler expects one of " + itk::DRRSamplerFactory::GetNames() + ", got 'foo'");
+}
+
+TEST(PolicyRegistry, EveryHelpLineIsOfARegisteredPolicy)
+{
+  // The library registers a policy once, with its name; pbdrr attaches its help line by that name. A line whose name
+  // no registry holds (a renamed or removed policy) is stale.
+  std::set<std::string> registered;
+  for (const auto & name : itk::DRRPolicies::Kernels::GetNames())
+  {
+    registered.insert(name);
+  }
+  for (const auto & name : itk::DRRPolicies::Splats::GetNames())
+  {
+    registered.insert(name);
+  }
+  for (const auto & name : itk::DRRPolicies::Beams::GetNames())
+  {
+    registered.insert(name);
+  }
+  for (const auto & entry : itk::DRRSamplerFactory::GetEntries())
+  {
+    registered.insert(entry.Name);
+  }
+  for (const auto & name : pbdrr::PolicyHelpNames())
+  {
+    EXPECT_EQ(registered.count(name), 1u) << "pbdrr's help table describes '" << name << "', which no registry holds";
+  }
+  EXPECT_EQ(pbdrr::PolicyHelpNames().size(), registered.size());
+  EXPECT_EQ(pbdrr::PolicyHelpLine("no-such-policy"), "");
 }
 
 TEST(PolicyRegistry, KernelsAndSplatsAreInTheFuzzDictionaryAndTheReadme)

@@ -27,7 +27,7 @@ namespace itk
 /** \class DRRNearestSplat
  * \brief Splat policy: the whole point goes to the pixel that contains it (unbiased for the pixel-area average).
  *
- * A splat policy provides who it is (Id, its enumerator; Name and Description, for the command line), Reach (how far
+ * A splat policy provides who it is (Id, its enumerator; Name, its registered name), Reach (how far
  * from a point, in pixels, the pixel centres it reaches can be), Corners (how many pixels a point can reach) and
  * Locate(column, row, columns, rows, pixel, share): for each corner the pixel index (columns fastest) and the share of
  * the point's weight, or pixel -1 and share 0 off the detector. Locate() must be branch-free (selects, no early exits)
@@ -40,10 +40,8 @@ struct DRRNearestSplat
 {
   /** The enumerator that selects this splat. */
   static constexpr PointBasedDRREnums::Splat Id = PointBasedDRREnums::Splat::Nearest;
-  /** Its name on the command line. */
+  /** Its name: the enumerator prints as its CamelCase (DRRPolicyList::GetEnumeratorName()). */
   static constexpr const char * Name = "nearest";
-  /** One line for the help. */
-  static constexpr const char * Description = "the whole point to the pixel that contains it: unbiased";
 
   /** The pixel centre a point reaches is at most half a pixel away from it along each axis. */
   static constexpr double Reach = 0.5;

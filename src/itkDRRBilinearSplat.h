@@ -37,10 +37,8 @@ struct DRRBilinearSplat
 {
   /** The enumerator that selects this splat. */
   static constexpr PointBasedDRREnums::Splat Id = PointBasedDRREnums::Splat::Bilinear;
-  /** Its name on the command line. */
+  /** Its name: the enumerator prints as its CamelCase (DRRPolicyList::GetEnumeratorName()). */
   static constexpr const char * Name = "bilinear";
-  /** One line for the help. */
-  static constexpr const char * Description = "shared among the 4 nearest pixel centres: less noise, a one-pixel blur";
 
   /** The pixel centres a point reaches are less than 1 pixel away from it along each axis. */
   static constexpr double Reach = 1.0;

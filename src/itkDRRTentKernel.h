@@ -37,10 +37,8 @@ struct DRRTentKernel
 {
   /** The enumerator that selects this kernel. */
   static constexpr PointBasedDRREnums::ReconstructionKernel Id = PointBasedDRREnums::ReconstructionKernel::Tent;
-  /** Its name on the command line. */
+  /** Its name: the enumerator prints as its CamelCase (DRRPolicyList::GetEnumeratorName()). */
   static constexpr const char * Name = "tent";
-  /** One line for the help. */
-  static constexpr const char * Description = "voxel centre plus a triangular offset per axis: the trilinear model";
   /** The exact projector of the trilinear model: the dual-grid traversal with 2-point Gauss-Legendre. */
   static constexpr const char * ExactReference = "trilinear";
 
@@ -53,7 +51,7 @@ struct DRRTentKernel
   Offset(uint32_t bits)
   {
     // One unconditional square root and a select: vectorizes.
-    const double u = DRRPhiloxRandom::ToUnitInterval(bits);
+    const double u = detail::DRRPhiloxRandom::ToUnitInterval(bits);
     const double root = std::sqrt(2.0 * std::min(u, 1.0 - u));
     return u < 0.5 ? root - 1.0 : 1.0 - root;
   }

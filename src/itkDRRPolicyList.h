@@ -28,20 +28,20 @@ namespace itk
 {
 /** \class DRRPolicyList
  * \brief A registry of compile-time policies of one kind (reconstruction kernels, splats, beams): the single list from
- * which the renderer's dispatch, the enumerators' printed names, the command line's help and parsing, and the tests'
- * lists are all derived (itkDRRPolicies.h holds the registrations).
+ * which the renderer's dispatch, the enumerators' printed names, the lookup by name and the tests' lists are all
+ * derived (itkDRRPolicies.h holds the registrations). What a program says about a policy (pbdrr's help) is the
+ * program's, attached to the registered name.
  *
  * Each policy is a small struct that says who it is:
  * \code
  *   static constexpr PointBasedDRREnums::ReconstructionKernel Id = PointBasedDRREnums::ReconstructionKernel::Box;
- *   static constexpr const char * Name = "box";                  // the command line's spelling, lower case
- *   static constexpr const char * Description = "uniform in the voxel: ..."; // one line for the help
+ *   static constexpr const char * Name = "box"; // its name, lower case, words joined by dashes
  * \endcode
  * The enumerator's printed name is the CamelCase of Name (`box` prints `Box`, `projection-matrix` would print
  * `ProjectionMatrix`), so a policy's name and its enumerator cannot drift apart unnoticed (a test checks both).
  *
  * \tparam TEnum the enumeration the policies are selected by, e.g. PointBasedDRREnums::Splat.
- * \tparam TPolicies the policies, in the order the help lists them (the first is the default).
+ * \tparam TPolicies the policies, in the order GetEntries() lists them (the first is the default).
  *
  * \sa DRRSamplerFactory, the run-time registry of samplers.
  * \ingroup PointBasedDRR
@@ -57,19 +57,18 @@ public:
   static_assert((std::is_same<std::remove_cv_t<decltype(TPolicies::Id)>, TEnum>::value && ...),
                 "every policy's Id must be of the list's enumeration");
 
-  /** A registered policy, as the command line and the tests see it. */
+  /** A registered policy: its enumerator and its name. */
   struct Entry
   {
-    TEnum       Id;          ///< the enumerator that selects it
-    std::string Name;        ///< the command line's spelling, e.g. `bilinear`
-    std::string Description; ///< one line for the help
+    TEnum       Id;   ///< the enumerator that selects it
+    std::string Name; ///< its registered name, e.g. `bilinear`
   };
 
   /** Every registered policy, in registration order (the first is the default). */
   static std::vector<Entry>
   GetEntries()
   {
-    return { Entry{ TPolicies::Id, TPolicies::Name, TPolicies::Description }... };
+    return { Entry{ TPolicies::Id, TPolicies::Name }... };
   }
 
   /** Number of registered policies. */
@@ -88,7 +87,7 @@ public:
     return VisitFrom<TVisit, TPolicies...>(id, visit);
   }
 
-  /** The command-line name of id (`box`); throws for an unregistered enumerator. */
+  /** The registered name of id (`box`); throws for an unregistered enumerator. */
   static std::string
   GetName(TEnum id)
   {

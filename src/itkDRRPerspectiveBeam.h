@@ -30,8 +30,8 @@ namespace itk
  * unbiased for the pixel-area average line integral (docs/design.md section 2). Projection and weights are computed by
  * DRRPointProjection; the exact projectors trace the same rays (DRRExactRayIntegrator).
  *
- * A beam policy provides who it is: Id (its enumerator), Name and Description (for the command line and the geometry
- * file's `projection` key), HasSource (whether its rays start at a source point) and MagnifiesRows (whether
+ * A beam policy provides who it is: Id (its enumerator), Name (its registered name, which the geometry file's
+ * `projection` key takes), HasSource (whether its rays start at a source point) and MagnifiesRows (whether
  * the rows' coordinate of a point is divided by its depth, as the columns' is when there is a source). A new beam is
  * its own header, an enumerator in PointBasedDRREnums::Projection, one line in DRRBeamPolicies (itkDRRPolicies.h), and
  * its projection in DRRPointProjection and DRRExactRayIntegrator.
@@ -42,10 +42,8 @@ struct DRRPerspectiveBeam
 {
   /** The enumerator that selects this beam. */
   static constexpr PointBasedDRREnums::Projection Id = PointBasedDRREnums::Projection::Perspective;
-  /** Its name on the command line and in geometry files. */
+  /** Its name: the enumerator prints as its CamelCase; geometry files spell the beam by it. */
   static constexpr const char * Name = "perspective";
-  /** One line for the help. */
-  static constexpr const char * Description = "rays from the source to every pixel, perspective weights";
   /** Rays start at a source point (projection and weights by DRRPointProjection's perspective path). */
   static constexpr bool HasSource = true;
   /** Rows are magnified as columns are (a cone). */

@@ -27,9 +27,9 @@ namespace itk
  * \brief Reconstruction-kernel policy: a point uniform inside its voxel (the piecewise-constant model, whose exact
  * projection is Siddon's). Offsets are in voxels, per axis.
  *
- * A kernel policy provides who it is (Id, its enumerator; Name and Description, for the command line;
- * ExactReference, the name of the exact projector of its model, or null if it has none), Reach (how far from the voxel
- * centre a point can go, voxels) and Offset(bits), the offset along one axis from 32 random bits. A new kernel is its
+ * A kernel policy provides who it is (Id, its enumerator; Name, its registered name; ExactReference, the name of the
+ * exact projector of its model, or null if it has none), Reach (how far from the voxel centre a point can go, voxels)
+ * and Offset(bits), the offset along one axis from 32 random bits. A new kernel is its
  * own header, an enumerator in PointBasedDRREnums::ReconstructionKernel and one line in DRRPolicies::Kernels
  * (itkDRRPolicies.h).
  *
@@ -39,10 +39,8 @@ struct DRRBoxKernel
 {
   /** The enumerator that selects this kernel. */
   static constexpr PointBasedDRREnums::ReconstructionKernel Id = PointBasedDRREnums::ReconstructionKernel::Box;
-  /** Its name on the command line. */
+  /** Its name: the enumerator prints as its CamelCase (DRRPolicyList::GetEnumeratorName()). */
   static constexpr const char * Name = "box";
-  /** One line for the help. */
-  static constexpr const char * Description = "uniform in the voxel: the piecewise-constant model";
   /** The exact projector of the box model: Siddon's traversal. */
   static constexpr const char * ExactReference = "siddon";
 
@@ -53,7 +51,7 @@ struct DRRBoxKernel
   static double
   Offset(uint32_t bits)
   {
-    return DRRPhiloxRandom::ToUnitInterval(bits) - 0.5;
+    return detail::DRRPhiloxRandom::ToUnitInterval(bits) - 0.5;
   }
 };
 } // namespace itk

@@ -33,7 +33,7 @@ namespace itk
  * \brief The registrations of the compile-time policies: one line per policy, here and nowhere else.
  *
  * Everything that lists policies is derived from these lists: the renderer's and exact projector's dispatch
- * (DRRPolicyList::Visit()), the printed names of the enumerators (operator<<), the command line's help and parsing,
+ * (DRRPolicyList::Visit()), the printed names of the enumerators (operator<<), the lookup by name (pbdrr's parsing),
  * and the tests that run every policy. Samplers, which are chosen at run time, are registered in DRRSamplerFactory.
  *
  * \ingroup PointBasedDRR

@@ -33,19 +33,16 @@ namespace itk
  * integral. Only points between the source's line and the detector (0 < z <= SID) count.
  *
  * The detector spacing is on the detector plane, at SID: a scanner stores the localizer's column spacing scaled to the
- * isocenter plane (du_iso = du SAD / SID) and its row spacing as the table's step (pbdrr --geometry-from converts).
- * A localizer has no 3 x 4 projection matrix (DRRProjectionGeometry::HasProjectionMatrix()).
- * \sa DRRPerspectiveBeam for the policy's interface.
- * \ingroup PointBasedDRR
+ * isocenter plane (du_iso = du SAD / SID) and its row spacing as the table's step (a reader of localizer headers
+ * converts). A localizer has no 3 x 4 projection matrix (DRRProjectionGeometry::HasProjectionMatrix()). \sa
+ * DRRPerspectiveBeam for the policy's interface. \ingroup PointBasedDRR
  */
 struct DRRLocalizerBeam
 {
   /** The enumerator that selects this beam. */
   static constexpr PointBasedDRREnums::Projection Id = PointBasedDRREnums::Projection::Localizer;
-  /** Its name on the command line and in geometry files. */
+  /** Its name: the enumerator prints as its CamelCase; geometry files spell the beam by it. */
   static constexpr const char * Name = "localizer";
-  /** One line for the help. */
-  static constexpr const char * Description = "a CT scout: a fan across the table (columns), parallel along it (rows)";
   /** Rays start at a source point, which moves with the row. */
   static constexpr bool HasSource = true;
   /** Rows are parallel: the source moves with them. */

@@ -32,10 +32,8 @@ struct DRRParallelBeam
 {
   /** The enumerator that selects this beam. */
   static constexpr PointBasedDRREnums::Projection Id = PointBasedDRREnums::Projection::Parallel;
-  /** Its name on the command line and in geometry files. */
+  /** Its name: the enumerator prints as its CamelCase; geometry files spell the beam by it. */
   static constexpr const char * Name = "parallel";
-  /** One line for the help. */
-  static constexpr const char * Description = "lines along the detector normal through every pixel, weight 1";
   /** No source: whole lines along the normal (DRRPointProjection's parallel path). */
   static constexpr bool HasSource = false;
   /** No magnification. */
