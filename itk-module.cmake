@@ -7,13 +7,13 @@ itk_module(PointBasedDRR
   DEPENDS
     ITKCommon
     ITKTransform
+    ITKOptimizers
   COMPILE_DEPENDS
     ITKImageFunction
   TEST_DEPENDS
     ITKTestKernel
     ITKGoogleTest
     ITKImageGrid
-    ITKOptimizers
     ITKRegistrationCommon
   DESCRIPTION
     "${DOCUMENTATION}"
