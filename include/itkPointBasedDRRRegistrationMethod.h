@@ -206,8 +206,8 @@ public:
   itkGetConstMacro(ReconstructionKernel, KernelEnum);
   ///@}
 
-  /** Makes the output, the decorated transform, for index 0. */
   using Superclass::MakeOutput;
+  /** Makes the output, the decorated transform, for index 0. */
   DataObjectPointer
   MakeOutput(DataObjectPointerArraySizeType index) override;
 

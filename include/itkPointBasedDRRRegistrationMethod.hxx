@@ -43,6 +43,7 @@ public:
   using Self = LevelCost;
   using Superclass = SingleValuedCostFunction;
   using Pointer = SmartPointer<Self>;
+  /** Method for creation through the object factory. */
   itkNewMacro(Self);
   using typename Superclass::DerivativeType;
   using typename Superclass::MeasureType;
@@ -51,21 +52,34 @@ public:
   /** One X-ray on this level: its binned view and pixels, and the filter that renders it. */
   struct Level
   {
-    GeometryType::Pointer                                                  Geometry;
-    std::vector<float>                                                     XRay;
+    /** The view, binned. */
+    GeometryType::Pointer Geometry;
+    /** The X-ray's pixels, binned alike. */
+    std::vector<float> XRay;
+    /** The kept points' filter (or null). */
     typename PointBasedDRRImageFilter<TInputImage, XRayImageType>::Pointer Points;
-    typename ExactDRRImageFilter<TInputImage, XRayImageType>::Pointer      Exact;
+    /** The exact projector (or null). */
+    typename ExactDRRImageFilter<TInputImage, XRayImageType>::Pointer Exact;
   };
 
-  std::vector<Level>                    Levels;
-  std::string                           Metric;
-  const TInputImage *                   Volume{ nullptr };
-  TransformType::Pointer                Pose;
+  /** One per X-ray. */
+  std::vector<Level> Levels;
+  /** The similarity's name. */
+  std::string Metric;
+  /** The CT. */
+  const TInputImage * Volume{ nullptr };
+  /** The pose evaluated (set to the parameters). */
+  TransformType::Pointer Pose;
+  /** Past it, GetValue() throws TimeIsUp. */
   std::chrono::steady_clock::time_point Deadline{ std::chrono::steady_clock::time_point::max() };
-  mutable SizeValueType                 Evaluations{ 0 };
-  mutable double                        BestValue{ std::numeric_limits<double>::infinity() };
-  mutable ParametersType                BestParameters;
+  /** The poses evaluated. */
+  mutable SizeValueType Evaluations{ 0 };
+  /** The lowest cost so far. */
+  mutable double BestValue{ std::numeric_limits<double>::infinity() };
+  /** Where it was found. */
+  mutable ParametersType BestParameters;
 
+  /** 1 - the mean similarity at parameters; throws TimeIsUp past the deadline. */
   MeasureType
   GetValue(const ParametersType & parameters) const override
   {
@@ -112,12 +126,14 @@ public:
     return level.Points->GetOutput();
   }
 
+  /** Throws: Powell's method needs none. */
   void
   GetDerivative(const ParametersType &, DerivativeType &) const override
   {
     itkExceptionMacro("no derivative: a derivative-free optimizer is used");
   }
 
+  /** Six: Euler3DTransform's. */
   unsigned int
   GetNumberOfParameters() const override
   {
