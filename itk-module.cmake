@@ -8,12 +8,12 @@ itk_module(PointBasedDRR
     ITKCommon
     ITKTransform
     ITKImageGrid
+    ITKOptimizers
   COMPILE_DEPENDS
     ITKImageFunction
   TEST_DEPENDS
     ITKTestKernel
     ITKGoogleTest
-    ITKOptimizers
     ITKRegistrationCommon
   DESCRIPTION
     "${DOCUMENTATION}"

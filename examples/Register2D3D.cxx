@@ -15,36 +15,47 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-// Rigid 2D-3D registration of a CT to one or two X-ray projections with ITK's classic registration components, the
-// DRRs cast by ITK's ray caster or rendered by PointBasedDRR: the two differ by one type (see Register()).
+// Rigid 2D-3D registration of a CT to one or two X-ray projections, two ways:
 //
-// Why the classic framework: ITK's DRR interpolator, itk::RayCastInterpolateImageFunction, is an
-// InterpolateImageFunction evaluated by a classic ImageToImageMetric, one ray per fixed-image pixel, and it has no
-// derivative; the ITKv4 metrics need the moving image's gradient. So: a MeanSquaresImageToImageMetric per view (fixed
-// image: the projection as a one-slice 3D image placed on the detector plane; moving image: the CT in mu; the
-// interpolator: the DRR), their sum as the cost, Powell's derivative-free optimizer over the 6 parameters of an
-// Euler3DTransform centred on the volume. MeanSquares (not NormalizedCorrelation) because it is multi-threaded in
-// ITK's classic framework, which keeps the ray caster's timing fair, and the synthetic target has the DRRs' units.
+// - `--method class` (the default): itk::PointBasedDRRRegistrationMethod, the library's registration, the one
+//   `pbdrr register` runs: kept points (`--drr pbdrr`) or the exact projector (`--drr exact`), gradient correlation
+//   or NCC (`--metric`), Powell's method on a multi-resolution schedule (`--shrink`). See Register().
+// - `--method classic`: ITK's classic registration components with the DRRs cast by ITK's ray caster or rendered by
+//   PointBasedDRR, and the two differ by one type (see RegisterClassic()). ITK's DRR interpolator,
+//   itk::RayCastInterpolateImageFunction, is an InterpolateImageFunction evaluated by a classic ImageToImageMetric,
+//   one ray per fixed-image pixel, and it has no derivative; the ITKv4 metrics need the moving image's gradient. So: a
+//   MeanSquaresImageToImageMetric per view (fixed image: the projection as a one-slice 3D image placed on the detector
+//   plane; moving image: the CT in mu; the interpolator: the DRR), their sum as the cost, Powell's derivative-free
+//   optimizer over the 6 parameters of an Euler3DTransform centred on the volume. MeanSquares (not
+//   NormalizedCorrelation) because it is multi-threaded in ITK's classic framework, which keeps the ray caster's
+//   timing fair, and the synthetic target has the DRRs' units. scripts/registration-benchmark.sh measures this way.
 //
-//   Register2D3D CT|--phantom [--drr pbdrr|raycast] [--views 1|2] [--size 128] [--pixel-mm MM] [--samples 2e6]
-//                [--control-variate F]
+//   Register2D3D CT|--phantom [--method class|classic] [--drr pbdrr|exact|raycast] [--views 1|2] [--size 128]
+//                [--pixel-mm MM] [--samples 2e6] [--control-variate F] [--metric gc|ncc] [--shrink 2,1]
 //                [--start tx,ty,tz,rx,ry,rz | --random-start SEED] [--max-translation 10] [--max-rotation 5]
 //                [--max-tre MM] [--iterations 6] [--threads N]
 //                [--fixed AP.mha --focal x,y,z [--fixed LAT.mha --focal x,y,z]]
 //
+// --drr: pbdrr (default) or exact with the class, pbdrr or raycast with the classic components; --metric and
+// --shrink are the class's, --iterations, --control-variate and --fixed the classic components'.
+//
 // CT: a DICOM series directory or a volume ITK reads (HU); --phantom: a coarse built-in CT. The CT is converted to
-// linear attenuation mu (1/mm, water at 60 keV), which both DRR methods integrate along their rays (threshold 0).
+// linear attenuation mu (1/mm, water at 60 keV), which every DRR method integrates along its rays (threshold 0; the
+// class with the identity transfer function and the targets' trilinear model).
 // Synthetic X-ray mode (the default): the target projections are rendered at the true pose (the identity: the CT
 // where it lies) by the exact projector (ExactDRRImageFilter, trilinear model, 2 x 2 rays per pixel), AP and lateral,
 // SAD 1000 mm, SID 1500 mm; the registration starts at the given or random offset (translation up to
 // --max-translation mm, rotation up to --max-rotation degrees about a random axis) and its error is known. With
 // --fixed, real projections (line integrals, one-slice 3D images placed in the room) and their focal points are used
-// and the result is printed without an error.
+// and the result is printed without an error (classic components only: the class needs each projection's view, a
+// DRRProjectionGeometry, not only its focal point).
 //
 // Prints one line `result key=value ...`: the start and final mean target registration error (mTRE, mm; over 27
 // points on a grid spanning the central 80% of the CT), success (final mTRE < 2 mm), the number of cost evaluations
 // and of DRRs rendered, and the wall time. With --max-tre, exits non-zero if the final mTRE exceeds it.
 #include "itkPointBasedDRRInterpolateImageFunction.h"
+#include "itkPointBasedDRRRegistrationMethod.h"
+#include "itkDRRImageSimilarity.h"
 #include "itkExactDRRImageFilter.h"
 
 #include "itkEuler3DTransform.h"
@@ -77,15 +88,20 @@ using MetricType = itk::MeanSquaresImageToImageMetric<ProjectionType, MuImageTyp
 
 struct View
 {
-  ProjectionType::Pointer Image;
-  itk::Point<double, 3>   FocalPoint;
+  ProjectionType::Pointer             Image; // for the classic components
+  itk::Point<double, 3>               FocalPoint;
+  itk::Image<float, 2>::Pointer       XRay; // for the class: the same pixels, and their view
+  itk::DRRProjectionGeometry::Pointer Geometry;
 };
 
 struct Options
 {
   std::string              Input;
   bool                     Phantom{ false };
+  std::string              Method{ "class" };
   std::string              Drr{ "pbdrr" };
+  std::string              Metric{ "gc" };
+  std::vector<unsigned>    Shrink{ 2, 1 };
   unsigned                 Views{ 2 }, Size{ 128 }, Iterations{ 6 }, Threads{ 0 };
   unsigned                 ControlVariate{ 0 }; // PBDRR: coarsening factor F (0: off); box kernel then
   double                   PixelMillimetres{ 0.0 }, Samples{ 2e6 }, MaxTranslation{ 10.0 }, MaxRotation{ 5.0 };
@@ -105,7 +121,7 @@ ParseList(const std::string & text, size_t count, const std::string & what)
   {
     values.push_back(std::stod(item));
   }
-  if (values.size() != count)
+  if (count > 0 ? values.size() != count : values.empty())
   {
     throw std::runtime_error(what + " needs " + std::to_string(count) + " comma-separated numbers: " + text);
   }
@@ -128,8 +144,18 @@ ParseOptions(int argc, char * argv[])
     };
     if (arg == "--phantom")
       options.Phantom = true;
+    else if (arg == "--method")
+      options.Method = value();
     else if (arg == "--drr")
       options.Drr = value();
+    else if (arg == "--metric")
+      options.Metric = value();
+    else if (arg == "--shrink")
+    {
+      options.Shrink.clear();
+      for (const double factor : ParseList(value(), 0, "--shrink"))
+        options.Shrink.push_back(static_cast<unsigned>(factor));
+    }
     else if (arg == "--views")
       options.Views = static_cast<unsigned>(std::stoul(value()));
     else if (arg == "--size")
@@ -165,8 +191,17 @@ ParseOptions(int argc, char * argv[])
   }
   if (options.Input.empty() == !options.Phantom)
     throw std::runtime_error("give a CT (DICOM directory or volume) or --phantom");
-  if (options.Drr != "pbdrr" && options.Drr != "raycast")
-    throw std::runtime_error("--drr is pbdrr or raycast, not " + options.Drr);
+  if (options.Method != "class" && options.Method != "classic")
+    throw std::runtime_error("--method is class or classic, not " + options.Method);
+  if (options.Method == "class" && options.Drr != "pbdrr" && options.Drr != "exact")
+    throw std::runtime_error("--method class renders with --drr pbdrr or exact, not " + options.Drr);
+  if (options.Method == "classic" && options.Drr != "pbdrr" && options.Drr != "raycast")
+    throw std::runtime_error("--method classic renders with --drr pbdrr or raycast, not " + options.Drr);
+  if (options.Method == "class" && !options.Fixed.empty())
+    throw std::runtime_error("--fixed gives focal points, not views: use --method classic");
+  if (!itk::DRRImageSimilarity::IsMetricName(options.Metric))
+    throw std::runtime_error("--metric is " + itk::DRRImageSimilarity::JoinMetricNames(" or ") + ", not " +
+                             options.Metric);
   if (options.Views < 1 || options.Views > 2)
     throw std::runtime_error("--views is 1 or 2");
   if (options.Fixed.size() != options.Focal.size())
@@ -301,6 +336,14 @@ RenderTargets(const MuImageType * mu, const Options & options)
     View view;
     view.Image = exact->GetOutput();
     view.FocalPoint = geometry->GetSourcePosition();
+    // The same pixels as a 2D image (a one-slice image's buffer is the 2D image's), with their view.
+    view.XRay = itk::Image<float, 2>::New();
+    view.XRay->SetRegions(itk::Size<2>{ { options.Size, options.Size } });
+    view.XRay->Allocate();
+    std::copy(view.Image->GetBufferPointer(),
+              view.Image->GetBufferPointer() + view.XRay->GetBufferedRegion().GetNumberOfPixels(),
+              view.XRay->GetBufferPointer());
+    view.Geometry = geometry;
     views.push_back(view);
   }
   return views;
@@ -426,10 +469,63 @@ struct Result
   TransformType::ParametersType Final;
 };
 
-/** The registration, for either interpolator: the same code but for the interpolator's type. */
-template <typename TInterpolator>
+/** The registration by the library's class: the CT (mu, identity transfer, the targets' trilinear model) moved
+ * from the start pose to the one whose DRRs match the views. The class's pose moves the CT in the room (from its frame
+ * to the room); the truth is the identity either way. */
 Result
 Register(const MuImageType * mu, const std::vector<View> & views, const Options & options)
+{
+  using MethodType = itk::PointBasedDRRRegistrationMethod<MuImageType>;
+  const auto centre = itk::DRRProjectionGeometry::ComputeImageCenter(mu);
+  const auto truth = TransformType::New();
+  truth->SetCenter(centre);
+  const auto start = StartPose(options, centre);
+
+  auto method = MethodType::New();
+  method->SetVolume(mu);
+  for (const View & view : views)
+  {
+    method->AddXRay(view.XRay, view.Geometry);
+  }
+  MethodType::PoseType pose;
+  for (unsigned k = 0; k < 3; ++k)
+  {
+    pose[k] = start->GetParameters()[k + 3];                // mm
+    pose[k + 3] = start->GetParameters()[k] * 180.0 / M_PI; // degrees
+  }
+  method->SetStartPose(pose);
+  auto identity = itk::DRRTransferFunction::New();
+  identity->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+  method->SetTransferFunction(identity);
+  method->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Tent);
+  method->SetUseExactProjector(options.Drr == "exact");
+  method->SetNumberOfSamples(static_cast<uint64_t>(options.Samples));
+  method->SetMetric(options.Metric);
+  method->SetShrinkFactorsPerLevel(options.Shrink);
+  method->AddObserver(itk::IterationEvent(), [&method](const itk::EventObject &) {
+    std::cerr << "level 1/" << method->GetCurrentShrinkFactor() << ": similarity "
+              << method->GetCurrentLevelSimilarity() << " after " << method->GetCurrentLevelEvaluations() << " poses"
+              << std::endl;
+  });
+
+  Result        result;
+  const clock_t cpuBegin = std::clock();
+  result.StartTre = MeanTargetError(mu, MethodType::MakePoseTransform(mu, pose), truth);
+  method->Update();
+  result.Seconds = method->GetElapsedSeconds();
+  result.CpuSeconds = static_cast<double>(std::clock() - cpuBegin) / CLOCKS_PER_SEC;
+  result.FinalTre = MeanTargetError(mu, method->GetTransform(), truth);
+  result.Final = method->GetTransform()->GetParameters();
+  result.Evaluations = static_cast<unsigned>(method->GetNumberOfEvaluations());
+  result.Drrs = result.Evaluations * static_cast<unsigned>(views.size());
+  return result;
+}
+
+/** The registration by ITK's classic components, for either interpolator: the same code but for the interpolator's
+ * type. */
+template <typename TInterpolator>
+Result
+RegisterClassic(const MuImageType * mu, const std::vector<View> & views, const Options & options)
 {
   const auto centre = itk::DRRProjectionGeometry::ComputeImageCenter(mu);
   const auto truth = TransformType::New();
@@ -529,12 +625,14 @@ main(int argc, char * argv[])
     const auto mu = ToMu(ct);
     const bool synthetic = options.Fixed.empty();
     const auto views = synthetic ? RenderTargets(mu, options) : ReadTargets(options);
-    // The one-type difference:
+    // The class, or the classic components with the one-type difference:
     const Result result =
-      options.Drr == "pbdrr"
-        ? Register<itk::PointBasedDRRInterpolateImageFunction<MuImageType, double>>(mu, views, options)
-        : Register<itk::RayCastInterpolateImageFunction<MuImageType, double>>(mu, views, options);
-    std::cout << "result drr=" << options.Drr << " views=" << views.size() << " size=" << options.Size;
+      options.Method == "class" ? Register(mu, views, options)
+      : options.Drr == "pbdrr"
+        ? RegisterClassic<itk::PointBasedDRRInterpolateImageFunction<MuImageType, double>>(mu, views, options)
+        : RegisterClassic<itk::RayCastInterpolateImageFunction<MuImageType, double>>(mu, views, options);
+    std::cout << "result method=" << options.Method << " drr=" << options.Drr << " views=" << views.size()
+              << " size=" << options.Size;
     if (options.Drr == "pbdrr")
       std::cout << " samples=" << static_cast<uint64_t>(options.Samples);
     std::cout << " seed=" << options.RandomStart << " evaluations=" << result.Evaluations << " drrs=" << result.Drrs

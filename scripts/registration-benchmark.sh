@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The registration measurement of issue 6 (README, docs/registration.md): examples/Register2D3D on the LIDC chest and
 # the InVesalius head, synthetic AP + lateral X-rays (exact projector) at the true pose, 20 random starts (up to 10 mm
-# and 5 degrees), with PointBasedDRR (the drop-in interpolator, kept points) and with ITK's ray caster. One run at a
-# time; resumable (starts already in OUT are skipped). Then summarizes into OUT/registration.md.
+# and 5 degrees), ITK's classic components (--method classic) with PointBasedDRR (the drop-in interpolator, kept
+# points) and with ITK's ray caster. One run at a time; resumable (starts already in OUT are skipped). Then
+# summarizes into OUT/registration.md.
 #
 #   bash scripts/registration-benchmark.sh
 #
@@ -47,7 +48,7 @@ for volume in $ONLY; do
       if grep -q " seed=$seed " "$log"; then continue; fi
       echo "== $volume $drr start $seed"
       # shellcheck disable=SC2086
-      "$EXE" "$input" --drr "$drr" --size "$SIZE" --samples "$SAMPLES" --random-start "$seed" ${REG_ARGS:-} | tee -a "$log"
+      "$EXE" "$input" --method classic --drr "$drr" --size "$SIZE" --samples "$SAMPLES" --random-start "$seed" ${REG_ARGS:-} | tee -a "$log"
     done
   done
 done

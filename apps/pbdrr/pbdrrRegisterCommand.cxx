@@ -19,6 +19,7 @@
 #include "pbdrrMessages.h"
 #include "pbdrrOptions.h"
 
+#include "itkDRRImageSimilarity.h"
 #include "itkImageFileWriter.h"
 #include "itkMultiThreaderBase.h"
 
@@ -49,11 +50,14 @@ ParsePose(const std::vector<std::string> & words)
   return pose;
 }
 
-/** values -> 0..255 by their 1st and 99th percentiles over the mask. */
+/** values -> 0..255 by their 1st and 99th percentiles over the mask (as many pixels as values). */
 std::vector<unsigned char>
-Windowed(const float * values, const std::vector<uint8_t> & mask)
+Windowed(const float * values, const itk::Image<unsigned char, 2> * maskImage)
 {
-  std::vector<float> inside;
+  const std::vector<uint8_t> mask(maskImage->GetBufferPointer(),
+                                  maskImage->GetBufferPointer() +
+                                    maskImage->GetLargestPossibleRegion().GetNumberOfPixels());
+  std::vector<float>         inside;
   for (size_t p = 0; p < mask.size(); ++p)
   {
     if (mask[p])
@@ -179,10 +183,10 @@ ParseRegisterCommandLine(const std::vector<std::string> & arguments)
     else if (word == "--metric")
     {
       const std::string name = value(i, 1)[0];
-      const auto &      names = RegistrationMetricNames();
-      if (std::find(names.begin(), names.end(), name) == names.end())
+      if (!itk::DRRImageSimilarity::IsMetricName(name))
       {
-        throw UsageError("--metric expects ncc or gc, got '" + name + "'");
+        throw UsageError("--metric expects " + itk::DRRImageSimilarity::JoinMetricNames(" or ") + ", got '" + name +
+                         "'");
       }
       options.settings.Metric = name;
     }
@@ -263,6 +267,8 @@ ParseRegisterCommandLine(const std::vector<std::string> & arguments)
 std::string
 RegisterHelpText()
 {
+  std::string metric = "  --metric " + itk::DRRImageSimilarity::JoinMetricNames("|");
+  metric.resize(std::max<size_t>(metric.size() + 1, 26), ' ');
   return R"(pbdrr register - the rigid pose of a CT that matches its DRRs to real X-rays
 
 Usage: pbdrr register CT --xray X [--xray Y ...] -o OUT.png [options]
@@ -284,9 +290,10 @@ a multi-resolution schedule.
 
 Options:
   --start TX TY TZ RX RY RZ   the starting pose: mm and degrees (default 0 0 0 0 0 0)
-  --metric gc|ncc         gradient correlation (default: edges only, blind to a
-                          table or holder outside the CT's field, scatter, a heel effect) or normalized
-                          cross-correlation of the images
+)" + metric +
+         R"(the similarity: gc, the gradient correlation (default: edges only, blind to a
+                          table or holder outside the CT's field, scatter, a heel effect), or ncc, the
+                          normalized cross-correlation of the images
   --shrink F[,F...]       the schedule: detector binning per level (default 2,1: the last level at full resolution,
                           where the gradients decide the rotations out of the view's plane)
   --samples N             points per DRR, kept and re-projected at every pose (default 4M)

@@ -1,0 +1,84 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRImageSimilarity_h
+#define itkDRRImageSimilarity_h
+
+#include "PointBasedDRRExport.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace itk
+{
+/** \class DRRImageSimilarity
+ * \brief The similarities of a DRR and a real X-ray that PointBasedDRRRegistrationMethod maximizes, over a mask of
+ * the pixels both cover.
+ *
+ * Both are blind to the X-ray's gain, offset and units (a real X-ray is no line integral):
+ * - "ncc": the normalized cross-correlation of the two images;
+ * - "gc": the gradient correlation (Penney et al. 1998), the mean of the NCCs of the two images' differences along
+ *   the rows and along the columns: edges only, blind to the smooth content an X-ray has and a CT's DRR lacks (a table
+ *   outside the CT's field, scatter, a heel effect).
+ *
+ * GetMetricNames() is the one list of the names: pbdrr register's help and parsing are derived from it.
+ *
+ * Images are row-major buffers of columns x rows pixels; a mask holds 1 for a counted pixel, 0 otherwise.
+ *
+ * \sa PointBasedDRRRegistrationMethod
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRImageSimilarity
+{
+public:
+  /** The metric names, in the order of their documentation: "ncc", "gc". */
+  static const std::vector<std::string> &
+  GetMetricNames();
+
+  /** True if name is one of GetMetricNames(). */
+  static bool
+  IsMetricName(const std::string & name);
+
+  /** The names joined by separator, e.g. "ncc or gc" for " or ". */
+  static std::string
+  JoinMetricNames(const std::string & separator);
+
+  /** The normalized cross-correlation of a and b over the pixels where mask is 1 (mask.size() pixels): 0 if either is
+   * constant there or fewer than 2 pixels count. */
+  static double
+  MaskedNormalizedCorrelation(const float * a, const float * b, const std::vector<uint8_t> & mask);
+
+  /** The gradient correlation of a and b (columns wide, mask.size() / columns rows): the mean of the NCCs of their
+   * central differences along the columns and along the rows, over the pixels whose two neighbours on that axis are
+   * both in the mask. */
+  static double
+  MaskedGradientCorrelation(const float * a, const float * b, const std::vector<uint8_t> & mask, size_t columns);
+
+  /** The metric called metric ("ncc" or "gc") of a and b (columns wide) over the mask. Throws itk::ExceptionObject
+   * for another name. */
+  static double
+  Evaluate(const std::string &          metric,
+           const float *                a,
+           const float *                b,
+           const std::vector<uint8_t> & mask,
+           size_t                       columns);
+};
+} // namespace itk
+
+#endif
