@@ -268,7 +268,8 @@ protected:
   void
   VerifyInputInformation() const override
   {}
-  /** An input volume or a shared attenuation model (one of them), and no label settings beside a shared model. */
+  /** The rules of the inputs and outputs, checked before every update: an input volume or a shared attenuation model
+   * (one of them), no label settings beside a shared model, and an output mode the output pixel type holds. */
   void
   VerifyPreconditions() const override;
 

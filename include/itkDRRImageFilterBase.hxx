@@ -93,6 +93,11 @@ void
 DRRImageFilterBase<TInputImage, TOutputImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
+  const bool gray = m_OutputMode == OutputModeEnum::Gray8 || m_OutputMode == OutputModeEnum::Gray16;
+  if (!gray && std::numeric_limits<OutputPixelType>::is_integer)
+  {
+    itkExceptionMacro("an integer output pixel type holds only the Gray8 or Gray16 output modes, not " << m_OutputMode);
+  }
   if (!this->GetSharedAttenuationVolume())
   {
     if (!this->GetInput())
@@ -281,12 +286,8 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
                                                             const std::vector<double> * standardError)
 {
   const bool gray = m_OutputMode == OutputModeEnum::Gray8 || m_OutputMode == OutputModeEnum::Gray16;
-  if (!gray && std::numeric_limits<OutputPixelType>::is_integer)
-  {
-    itkExceptionMacro("an integer output pixel type holds only the Gray8 or Gray16 output modes, not " << m_OutputMode);
-  }
-  double low = m_WindowLevel - 0.5 * m_WindowWidth;
-  double width = m_WindowWidth;
+  double     low = m_WindowLevel - 0.5 * m_WindowWidth;
+  double     width = m_WindowWidth;
   if (gray && !(width > 0.0))
   {
     const auto range = std::minmax_element(lineIntegral.begin(), lineIntegral.end());

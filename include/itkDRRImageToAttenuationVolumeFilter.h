@@ -206,6 +206,9 @@ private:
   /** The label image on the volume's grid: itself, or resampled onto it by nearest neighbour (label 0 outside). */
   typename LabelImageType::ConstPointer
   LabelsOnVolumeGrid(const InputImageType & input) const;
+  /** Refuses, before resampling, a label image that no voxel centre of the volume can fall in (another volume's). */
+  void
+  VerifyLabelsCoverVolume(const InputImageType & input, const LabelImageType & labels) const;
 
   typename TransferFunctionType::Pointer m_TransferFunction;
   LabelListType                          m_KeptLabels;

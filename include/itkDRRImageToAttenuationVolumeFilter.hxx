@@ -264,37 +264,7 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::LabelsOnVolumeGrid(const InputIm
   {
     return labels;
   }
-  // Refused before resampling if no voxel centre of the volume can fall in the label image: the label indices of the
-  // volume's corner voxel centres bound those of every voxel centre (the map is affine).
-  ContinuousIndex<double, 3> lowest, highest;
-  lowest.Fill(NumericTraits<double>::max());
-  highest.Fill(NumericTraits<double>::NonpositiveMin());
-  for (unsigned int corner = 0; corner < 8; ++corner)
-  {
-    typename InputImageType::IndexType index = region.GetIndex();
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      index[a] += (corner >> a & 1u) ? static_cast<IndexValueType>(region.GetSize()[a]) - 1 : 0;
-    }
-    typename InputImageType::PointType point;
-    input.TransformIndexToPhysicalPoint(index, point);
-    const auto labelIndex = labels->template TransformPhysicalPointToContinuousIndex<double, double>(point);
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      lowest[a] = std::min(lowest[a], labelIndex[a]);
-      highest[a] = std::max(highest[a], labelIndex[a]);
-    }
-  }
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    const double first = static_cast<double>(labelRegion.GetIndex()[a]) - 0.5;
-    const double last = first + static_cast<double>(labelRegion.GetSize()[a]);
-    if (highest[a] < first || lowest[a] >= last)
-    {
-      itkExceptionMacro("the label image (size " << labelRegion.GetSize() << ", origin " << labels->GetOrigin()
-                                                 << ") covers no voxel of the volume: it belongs to another volume");
-    }
-  }
+  this->VerifyLabelsCoverVolume(input, *labels);
   itkWarningMacro("the label image (size "
                   << labelRegion.GetSize() << ", spacing " << labels->GetSpacing() << ", origin " << labels->GetOrigin()
                   << ") is not on the volume's grid (size " << region.GetSize() << ", spacing " << input.GetSpacing()
@@ -309,6 +279,45 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::LabelsOnVolumeGrid(const InputIm
   resample->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
   resample->Update();
   return resample->GetOutput();
+}
+
+template <typename TInputImage>
+void
+DRRImageToAttenuationVolumeFilter<TInputImage>::VerifyLabelsCoverVolume(const InputImageType & input,
+                                                                        const LabelImageType & labels) const
+{
+  // The label indices of the volume's corner voxel centres bound those of every voxel centre (the map is affine).
+  const auto                 region = input.GetLargestPossibleRegion();
+  const auto                 labelRegion = labels.GetLargestPossibleRegion();
+  ContinuousIndex<double, 3> lowest, highest;
+  lowest.Fill(NumericTraits<double>::max());
+  highest.Fill(NumericTraits<double>::NonpositiveMin());
+  for (unsigned int corner = 0; corner < 8; ++corner)
+  {
+    typename InputImageType::IndexType index = region.GetIndex();
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      index[a] += (corner >> a & 1u) ? static_cast<IndexValueType>(region.GetSize()[a]) - 1 : 0;
+    }
+    typename InputImageType::PointType point;
+    input.TransformIndexToPhysicalPoint(index, point);
+    const auto labelIndex = labels.template TransformPhysicalPointToContinuousIndex<double, double>(point);
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      lowest[a] = std::min(lowest[a], labelIndex[a]);
+      highest[a] = std::max(highest[a], labelIndex[a]);
+    }
+  }
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    const double first = static_cast<double>(labelRegion.GetIndex()[a]) - 0.5;
+    const double last = first + static_cast<double>(labelRegion.GetSize()[a]);
+    if (highest[a] < first || lowest[a] >= last)
+    {
+      itkExceptionMacro("the label image (size " << labelRegion.GetSize() << ", origin " << labels.GetOrigin()
+                                                 << ") covers no voxel of the volume: it belongs to another volume");
+    }
+  }
 }
 
 template <typename TInputImage>

@@ -35,6 +35,7 @@
 // over the parameter t in [0, 1].
 
 #include "itkExactDRRImageFilter.h"
+#include "itkCommand.h"
 #include "itkDRRPolicies.h"
 #include "itkAffineTransform.h"
 #include "itkEuler3DTransform.h"
@@ -1041,11 +1042,20 @@ TEST(ExactDRRImageFilter, OutputModes)
     }
   }
 
-  // An integer output cannot hold line integrals (nor transmissions).
+  // An integer output cannot hold line integrals (nor transmissions): refused by VerifyPreconditions(), before the
+  // render starts (no StartEvent).
   {
     using Gray8Type = itk::Image<unsigned char, 2>;
-    auto filter = MakeFilter<Gray8Type>(volume, geometry, kernel);
-    EXPECT_THROW(filter->Update(), itk::ExceptionObject);
+    auto         filter = MakeFilter<Gray8Type>(volume, geometry, kernel);
+    unsigned int starts = 0;
+    auto         counter = itk::CStyleCommand::New();
+    counter->SetClientData(&starts);
+    counter->SetCallback(
+      [](itk::Object *, const itk::EventObject &, void * count) { ++*static_cast<unsigned int *>(count); });
+    filter->AddObserver(itk::StartEvent(), counter);
+    EXPECT_TRUE(PointBasedDRRTest::Contains(
+      PointBasedDRRTest::ExceptionMessage([&] { filter->Update(); }, "gray8 line"), "holds only the Gray8 or Gray16"));
+    EXPECT_EQ(starts, 0u);
     auto transmission = MakeFilter<Gray8Type>(volume, geometry, kernel);
     transmission->SetOutputMode(OutputModeEnum::Transmission);
     EXPECT_THROW(transmission->Update(), itk::ExceptionObject);

@@ -46,6 +46,7 @@
 
 #include "gtest/gtest.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cxxabi.h>
 #include <cstdlib>
@@ -271,6 +272,44 @@ RunQuantumNoise(const std::string & className)
 }
 
 /** Runs an image filter once, through the wrapped class's own interface (ImageToImageFilter's for a base class). */
+/** The preprocessing stage: a volume in, the attenuation model out, which a DRR filter renders as its own. */
+template <typename T, typename = void>
+struct IsAttenuationVolumeFilter : std::false_type
+{};
+template <typename T>
+struct IsAttenuationVolumeFilter<T, std::void_t<typename T::InputImageType>>
+  : std::is_base_of<itk::DRRImageToAttenuationVolumeFilter<typename T::InputImageType>, T>
+{};
+
+template <typename T>
+void
+RunAttenuationVolumeFilter(const std::string & className)
+{
+  using VolumeType = typename T::InputImageType;
+  using DRRType = itk::ExactDRRImageFilter<VolumeType, itk::Image<float, 2>>;
+  auto stage = T::New();
+  stage->SetInput(MakeVolume<VolumeType>());
+  EXPECT_NO_THROW(stage->Update()) << className;
+  EXPECT_EQ(stage->GetOutput()->GetNumberOfVoxels(), 24u) << className;
+  EXPECT_GT(stage->GetOutput()->ComputeTotalMass(), 0.0) << className;
+  auto shared = DRRType::New();
+  shared->SetGeometry(MakeGeometry());
+  shared->SetAttenuationVolume(stage->GetOutput());
+  auto own = DRRType::New();
+  own->SetGeometry(MakeGeometry());
+  own->SetInput(stage->GetInput());
+  shared->Update();
+  own->Update();
+  const size_t pixels = shared->GetOutput()->GetBufferedRegion().GetNumberOfPixels();
+  EXPECT_TRUE(std::equal(shared->GetOutput()->GetBufferPointer(),
+                         shared->GetOutput()->GetBufferPointer() + pixels,
+                         own->GetOutput()->GetBufferPointer()))
+    << className << ": a shared model renders as a filter's own";
+  std::ostringstream printed;
+  stage->Print(printed);
+  EXPECT_NE(printed.str().find("TransferFunction"), std::string::npos) << className << " Print():\n" << printed.str();
+}
+
 template <typename T>
 void
 RunImageFilter(const std::string & className)
@@ -438,6 +477,10 @@ Exercise(const std::string & className)
   else if constexpr (IsQuantumNoise<T>::value)
   {
     RunQuantumNoise<T>(className);
+  }
+  else if constexpr (IsAttenuationVolumeFilter<T>::value)
+  {
+    RunAttenuationVolumeFilter<T>(className);
   }
   else if constexpr (std::is_base_of<itk::ProcessObject, T>::value)
   {
