@@ -131,7 +131,7 @@ public:
   static unsigned int
   ChooseFactor(const DRRAttenuationVolume & volume,
                const DRRPointProjection &   projection,
-               uint64_t                     samples = 10000000,
+               uint64_t                     samples = DRRPointRenderer::DefaultNumberOfSamples,
                uint64_t                     poses = 1);
 
   /** What `auto` predicts a render with points kept for several poses to cost, measured on a 2-core Xeon
