@@ -280,6 +280,10 @@ protected:
   /** The projection mapping for the current geometry, volume and transform. */
   DRRPointProjection
   MakeProjection();
+  /** The projection mapping of the current geometry and transform onto the grid of volume (a slab's, when streaming).
+   */
+  DRRPointProjection
+  MakeProjection(const DRRAttenuationVolume & volume) const;
 
   /** Converts a line-integral image to the output mode and writes it into output 0. With a standard-error image,
    * also writes output 1: the standard error of the output values, carried through the output mode by the delta

@@ -274,10 +274,17 @@ template <typename TInputImage, typename TOutputImage>
 DRRPointProjection
 DRRImageFilterBase<TInputImage, TOutputImage>::MakeProjection()
 {
+  return this->MakeProjection(*this->GetAttenuationVolume());
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPointProjection
+DRRImageFilterBase<TInputImage, TOutputImage>::MakeProjection(const DRRAttenuationVolume & volume) const
+{
   DRRPointProjection::MatrixType matrix;
   DRRPointProjection::VectorType offset;
   this->ComputeTransformAffine(matrix, offset);
-  return DRRPointProjection(*m_Geometry, *this->GetAttenuationVolume(), matrix, offset);
+  return DRRPointProjection(*m_Geometry, volume, matrix, offset);
 }
 
 template <typename TInputImage, typename TOutputImage>

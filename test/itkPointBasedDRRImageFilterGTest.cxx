@@ -32,6 +32,8 @@
 #include "itkDRRNearestSplat.h"
 #include "itkDRRTentKernel.h"
 #include "itkCommand.h"
+#include "itkImageRegionIterator.h"
+#include "itkImageSource.h"
 #include "PointBasedDRRTestHelpers.h"
 
 #include "gtest/gtest.h"
@@ -1355,6 +1357,100 @@ TEST(PointBasedDRRReuse, ASamplerReplacedByAnotherOfTheSameTypeIsInitializedAndD
     EXPECT_EQ(drr->GetNumberOfPointCloudDraws(), 2u) << name << ": its points were drawn";
     EXPECT_EQ(ToVector(drr->GetOutput()), image) << name;
   }
+}
+
+/** An image source that generates only the region requested of it, from a volume in memory, and records each request:
+ * a stand-in for a streaming reader. */
+class RegionRecordingSource : public itk::ImageSource<HUVolumeType>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(RegionRecordingSource);
+  using Self = RegionRecordingSource;
+  using Superclass = itk::ImageSource<HUVolumeType>;
+  using Pointer = itk::SmartPointer<Self>;
+  itkNewMacro(Self);
+
+  HUVolumeType::ConstPointer            Volume;
+  std::vector<HUVolumeType::RegionType> Requests;
+
+protected:
+  RegionRecordingSource() = default;
+  void
+  GenerateOutputInformation() override
+  {
+    this->GetOutput()->CopyInformation(Volume);
+  }
+  void
+  GenerateData() override
+  {
+    HUVolumeType * output = this->GetOutput();
+    const auto     region = output->GetRequestedRegion();
+    Requests.push_back(region);
+    output->SetBufferedRegion(region);
+    output->Allocate();
+    itk::ImageRegionConstIterator<HUVolumeType> in(Volume, region);
+    itk::ImageRegionIterator<HUVolumeType>      out(output, region);
+    for (; !in.IsAtEnd(); ++in, ++out)
+    {
+      out.Set(in.Get());
+    }
+  }
+};
+
+// Streaming (issue 30): the exact filter reads the volume from its pipeline in slabs of whole z planes, each requested
+// once and modelled alone, and the slabs' projections sum to the whole volume's to rounding, for any number of slabs,
+// from a streaming source or an image in memory.
+TEST(ExactDRRImageFilter, StreamedSlabsOfThePipelineSumToTheWholeVolumesProjection)
+{
+  const auto volume = MakePhantom<HUVolumeType>(false); // 6 x 7 x 5, rotated, random HU levels
+  using ExactType = itk::ExactDRRImageFilter<HUVolumeType, ProjectionType>;
+  const auto planes = volume->GetLargestPossibleRegion().GetSize()[2];
+  for (const auto projection : { ProjectionEnum::Perspective, ProjectionEnum::Parallel })
+  {
+    auto geometry = MakeGeometry(projection, 9, 7, 3.0, 3.5);
+    geometry->SetGantryAngleInDegrees(35.0);
+    const auto render = [&](const HUVolumeType * input, unsigned int slabs) {
+      auto exact = ExactType::New();
+      exact->SetInput(input);
+      exact->SetGeometry(geometry);
+      exact->SetRaysPerPixelSide(2);
+      exact->SetNumberOfStreamDivisions(slabs);
+      exact->Update();
+      return ToVector(exact->GetOutput());
+    };
+    const auto   whole = render(volume, 1);
+    const double largest = *std::max_element(whole.begin(), whole.end());
+    ASSERT_GT(largest, 0.1);
+    for (const unsigned int slabs : { 2u, 3u, 5u, 9u })
+    {
+      auto source = RegionRecordingSource::New();
+      source->Volume = volume;
+      for (const auto & streamed : { render(source->GetOutput(), slabs), render(volume, slabs) })
+      {
+        ASSERT_EQ(streamed.size(), whole.size());
+        for (size_t p = 0; p < whole.size(); ++p)
+        {
+          EXPECT_NEAR(streamed[p], whole[p], 1e-6 * largest) << projection << ", " << slabs << " slabs, pixel " << p;
+        }
+      }
+      // Every plane once, in consecutive slabs of whole planes.
+      ASSERT_EQ(source->Requests.size(), std::min<size_t>(slabs, planes)) << slabs << " slabs";
+      itk::IndexValueType next = 0;
+      for (const auto & request : source->Requests)
+      {
+        EXPECT_EQ(request.GetIndex()[2], next);
+        EXPECT_EQ(request.GetSize()[0], 6u);
+        EXPECT_EQ(request.GetSize()[1], 7u);
+        next += static_cast<itk::IndexValueType>(request.GetSize()[2]);
+      }
+      EXPECT_EQ(next, static_cast<itk::IndexValueType>(planes));
+    }
+  }
+  auto tent = ExactType::New();
+  tent->SetInput(volume);
+  tent->SetNumberOfStreamDivisions(2);
+  tent->SetReconstructionKernel(KernelEnum::Tent);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { tent->Update(); }, "streamed tent"), "needs the box kernel"));
 }
 
 } // namespace
