@@ -14,7 +14,6 @@ itk_module(PointBasedDRR
   TEST_DEPENDS
     ITKTestKernel
     ITKGoogleTest
-    ITKRegistrationCommon
   DESCRIPTION
     "${DOCUMENTATION}"
   EXCLUDE_FROM_DEFAULT

@@ -16,6 +16,10 @@ install(TARGETS PointBasedDRR EXPORT PointBasedDRRTargets
 file(GLOB PointBasedDRR_HEADERS ${PROJECT_SOURCE_DIR}/include/*.h ${PROJECT_SOURCE_DIR}/include/*.hxx)
 install(FILES ${PointBasedDRR_HEADERS} ${PROJECT_BINARY_DIR}/include/PointBasedDRRExport.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/PointBasedDRR)
+# The installed pbdrr keeps the run path of the libraries it links from outside this build: an ITK built from source
+# (ITK_DIR a build tree, as scripts/build-itk.sh makes it) is in no system directory. (Debian's ITK, in the linker's
+# implicit directories, adds none.)
+set_target_properties(pbdrr PROPERTIES INSTALL_RPATH_USE_LINK_PATH ON)
 install(TARGETS pbdrr RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 install(EXPORT PointBasedDRRTargets NAMESPACE PointBasedDRR:: DESTINATION ${PointBasedDRR_INSTALL_CMAKE_DIR})

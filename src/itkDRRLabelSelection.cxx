@@ -119,7 +119,7 @@ DRRLabelSelection::Apply(const LabelType *      labels,
                                                  << ") minus the dropped ones (" << ToString(droppedLabels)
                                                  << ") leave no label to render");
   }
-  if (selected.size() < std::count(present.begin(), present.end(), uint8_t(1)))
+  if (selected.size() < static_cast<size_t>(std::count(present.begin(), present.end(), uint8_t(1))))
   {
     std::unique_ptr<uint8_t[]> keep(new uint8_t[numberOfVoxels]); // first touched by the threads that fill it
     forEachBlock([&](uint64_t, uint64_t begin, uint64_t end) {

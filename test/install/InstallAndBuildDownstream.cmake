@@ -1,6 +1,6 @@
 # Installs this build into PREFIX, then configures, builds and runs test/install/Downstream against the installed
 # tree alone (find_package(PointBasedDRR) with CMAKE_PREFIX_PATH=PREFIX), and runs the installed pbdrr:
-#   cmake -DBUILD_DIR=... -DPREFIX=... -DDOWNSTREAM_SOURCE=... -DDOWNSTREAM_BINARY=... -P InstallAndBuildDownstream.cmake
+#   cmake -DBUILD_DIR=... -DITK_DIR=... -DPREFIX=... -DDOWNSTREAM_SOURCE=... -DDOWNSTREAM_BINARY=... -P InstallAndBuildDownstream.cmake
 cmake_minimum_required(VERSION 3.16)
 
 function(run step)
@@ -22,7 +22,7 @@ foreach(file include/PointBasedDRR/itkPointBasedDRRImageFilter.h include/PointBa
 endforeach()
 # The source tree must not be reachable: only what was installed.
 run("configure the downstream project" ${CMAKE_COMMAND} -S "${DOWNSTREAM_SOURCE}" -B "${DOWNSTREAM_BINARY}"
-    -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${PREFIX}")
+    -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${PREFIX}" "-DITK_DIR=${ITK_DIR}")
 run("build the downstream project" ${CMAKE_COMMAND} --build "${DOWNSTREAM_BINARY}")
 file(STRINGS "${DOWNSTREAM_BINARY}/CMakeCache.txt" found REGEX "^PointBasedDRR_DIR:")
 if(NOT found MATCHES "${PREFIX}/lib/cmake/PointBasedDRR")

@@ -177,8 +177,7 @@ TEST(PbdrrVolumeLoader, Jpeg2000SlicesDecodeToTheRangeTheirHeadersDeclare)
     {
       point[i] = ipp[i];
     }
-    itk::ContinuousIndex<double, 3> index;
-    image->TransformPhysicalPointToContinuousIndex(point, index);
+    const auto index = image->TransformPhysicalPointToContinuousIndex<double>(point);
     const long k = std::lround(index[2]);
     ASSERT_NEAR(index[2], static_cast<double>(k), 1e-3) << file << ": not on a slice of the volume";
     ASSERT_NEAR(index[0], 0.0, 1e-3) << file;

@@ -41,6 +41,7 @@
 #include "itkExactDRRImageFilter.h"
 #include "itkIdentityTransform.h"
 #include "itkImageRegionConstIterator.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkInterpolateImageFunction.h"
 #include "itkPointBasedDRRImageFilter.h"
 
@@ -228,7 +229,8 @@ ExpectProjection(const TImage * image, const std::string & what, bool positive)
     EXPECT_EQ(size[2], 1u) << what;
   }
   double sum = 0.0;
-  for (itk::ImageRegionConstIterator<TImage> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
+  // With index: ImageConstIterator::GetIndex() is deprecated in ITK 6 (ComputeIndex(), which 5.4 and 5.2 lack).
+  for (itk::ImageRegionConstIteratorWithIndex<TImage> it(image, image->GetBufferedRegion()); !it.IsAtEnd(); ++it)
   {
     ASSERT_TRUE(std::isfinite(static_cast<double>(it.Get()))) << what << " at " << it.GetIndex();
     EXPECT_GE(it.Get(), 0) << what << " at " << it.GetIndex();
