@@ -33,7 +33,9 @@
 #include "itkExactDRRImageFilter.h"
 #include "itkDRROutputConversion.h"
 #include "itkDRRSamplerFactory.h"
+#include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
+#include "itkImageIOFactory.h"
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkVersion.h"
 
@@ -184,6 +186,11 @@ Describe(const TVolume * volume)
     s << (r ? "; " : "") << volume->GetDirection()[r][0] << " " << volume->GetDirection()[r][1] << " "
       << volume->GetDirection()[r][2];
   }
+  if (volume->GetBufferedRegion() != region)
+  {
+    s << "], values not read yet (streamed slab by slab)";
+    return s.str();
+  }
   const auto *   values = volume->GetBufferPointer();
   const uint64_t count = region.GetNumberOfPixels();
   if (count == 0)
@@ -252,6 +259,7 @@ MakeRenderer(const Options & options, const TVolume * volume)
     auto exact = itk::ExactDRRImageFilter<TVolume, ProjectionType>::New();
     exact->SetReconstructionKernel(*options.exact);
     exact->SetRaysPerPixelSide(options.raysPerSide);
+    exact->SetNumberOfStreamDivisions(options.stream);
     renderer.Filter = exact.GetPointer();
   }
   renderer.Filter->SetInput(volume);
@@ -304,8 +312,12 @@ DescribeMemory(const TVolume *            volume,
 {
   const double       voxels = static_cast<double>(volume->GetLargestPossibleRegion().GetNumberOfPixels());
   std::ostringstream s;
-  s << std::setprecision(3) << "bytes per voxel: the CT " << sizeof(typename TVolume::PixelType)
-    << ", attenuation model " << filter->GetAttenuationVolume()->GetBytesPerVoxel();
+  s << std::setprecision(3) << "bytes per voxel: the CT " << sizeof(typename TVolume::PixelType);
+  if (volume->GetBufferedRegion() != volume->GetLargestPossibleRegion())
+  {
+    return s.str() + ", held one slab at a time (streamed)";
+  }
+  s << ", attenuation model " << filter->GetAttenuationVolume()->GetBytesPerVoxel();
   if (pointBased)
   {
     s << ", sampler tables " << static_cast<double>(pointBased->GetSampler()->GetTableSizeInBytes()) / voxels;
@@ -316,6 +328,56 @@ DescribeMemory(const TVolume *            volume,
   }
   s << "; preprocess " << 1e9 * preprocessSeconds / voxels << " ns per voxel";
   return s.str();
+}
+
+/** `--stream`: the CT's file opened, its header read, no voxel: the exact filter requests it slab by slab. A file whose
+ * pixel type an int16 holds (8- or 16-bit signed, 8-bit unsigned) is read as int16 HU, any other as float, as
+ * LoadVolume() reads it. A DICOM series (a directory) is refused: ITK reads a series whole. */
+LoadedVolume
+OpenStreamedVolume(const std::string & input)
+{
+  struct stat status;
+  if (stat(input.c_str(), &status) != 0)
+  {
+    throw std::runtime_error("input " + input + " does not exist");
+  }
+  if (S_ISDIR(status.st_mode))
+  {
+    throw UsageError("--stream reads a MetaImage, NRRD or NIfTI file slab by slab, not a DICOM series (" + input +
+                     " is a directory)");
+  }
+  auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+  if (!io)
+  {
+    throw std::runtime_error("no ITK image reader reads " + input);
+  }
+  io->SetFileName(input);
+  io->ReadImageInformation();
+  if (io->GetNumberOfDimensions() != 3 || io->GetNumberOfComponents() != 1)
+  {
+    throw std::runtime_error(input + " is not a 3D scalar volume");
+  }
+  using Component = itk::IOComponentEnum;
+  const auto   type = io->GetComponentType();
+  LoadedVolume loaded;
+  loaded.Description = input + " (streamed)";
+  if (type == Component::CHAR || type == Component::SHORT || type == Component::UCHAR)
+  {
+    auto reader = itk::ImageFileReader<HUVolumeType>::New();
+    reader->SetFileName(input);
+    reader->UpdateOutputInformation();
+    loaded.HU = reader->GetOutput();
+    loaded.Source = reader;
+  }
+  else
+  {
+    auto reader = itk::ImageFileReader<VolumeType>::New();
+    reader->SetFileName(input);
+    reader->UpdateOutputInformation();
+    loaded.Image = reader->GetOutput();
+    loaded.Source = reader;
+  }
+  return loaded;
 }
 
 /** Renders and writes the view of the options from a loaded volume (of its own pixel type: int16 HU or float). */
@@ -350,9 +412,9 @@ RenderView(const Options &                               options,
   {
     pointBased->PrepareSampling();
   }
-  else
+  else if (options.stream <= 1)
   {
-    filter->GetAttenuationVolume();
+    filter->GetAttenuationVolume(); // streamed, each slab's model is built as the slab is read
   }
   stages.emplace_back("preprocess", SecondsSince(start));
 
@@ -489,9 +551,11 @@ Run(const Options & options)
 
   auto               start = Clock::now();
   ProgressBar        loadProgress(chatty);
-  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, [&](size_t done, size_t total) {
-    loadProgress.ShowCount("reading DICOM files", done, total);
-  });
+  const LoadedVolume loaded = options.stream > 1
+                                ? OpenStreamedVolume(options.input)
+                                : LoadVolume(options.input, options.seriesUID, [&](size_t done, size_t total) {
+                                    loadProgress.ShowCount("reading DICOM files", done, total);
+                                  });
   loadProgress.Finish();
   stages.emplace_back("load", SecondsSince(start));
   for (const auto & note : loaded.Notes)

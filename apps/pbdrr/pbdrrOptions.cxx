@@ -657,6 +657,17 @@ OptionDeclarations()
       "all cores",
       "worker threads (default: {default})",
       [](Options & o, const Values & v) { o.threads = WholeNumber(v[0], "--threads", 1, 1024); } },
+    { "--stream",
+      "",
+      1,
+      one,
+      "--stream renders one view (a batch does not stream yet)",
+      OptionGroup::Rendering,
+      "SLABS",
+      "",
+      "read the CT in SLABS slabs of z planes, one at a time, for a CT larger than\n"
+      "memory (--exact siddon; a MetaImage, NRRD or uncompressed NIfTI file)",
+      [](Options & o, const Values & v) { o.stream = WholeNumber(v[0], "--stream", 1, 1000000); } },
     { "--paper-count",
       "",
       0,
@@ -1212,6 +1223,11 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   if (options.energyKeV && options.muWater)
   {
     throw UsageError("--energy and --mu-water both set mu_water: give one");
+  }
+  if (options.stream > 1 && options.exact != itk::PointBasedDRREnums::ReconstructionKernel::Box)
+  {
+    throw UsageError("--stream reads the CT slab by slab for --exact siddon only (point sampling and the trilinear "
+                     "projector do not stream yet)");
   }
   if (options.exact && options.paperCount)
   {

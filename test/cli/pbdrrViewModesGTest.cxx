@@ -333,6 +333,12 @@ ViewModeCases()
       batchesRefuse("--spectrum and --kvp") },
     { "exact_trilinear", with(small, { "--exact", "trilinear", "-q" }) },
     { "ss", with(with(exact, small), { "--ss", "3" }) },
+    // Streamed in slabs: the same bits as the CT read whole (the reference is the view without --stream).
+    { "stream",
+      with(with(exact, small), { "--stream", "3" }),
+      Render::Exact,
+      batchesRefuse("--stream renders one view \\(a batch does not stream yet\\)"),
+      with(exact, small) },
     { "stderr",
       with(with(points, small), { "--stderr", Input("se_%d.mha") }),
       Render::Points,

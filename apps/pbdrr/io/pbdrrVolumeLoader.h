@@ -40,6 +40,9 @@ struct LoadedVolume
   VolumeType::Pointer      Image;
   std::string              Description; // where it came from: file, or DICOM series and its slices
   std::vector<std::string> Notes;       // e.g. "3 series in DIR; using ..."
+  /** The reader of a streamed volume (`--stream`), kept alive: an image holds only a weak pointer to its source, and
+   * the filter requests the volume from it slab by slab. Null for a volume read whole. */
+  itk::ProcessObject::Pointer Source;
 
   /** The volume, whichever its pixel type: its grid. */
   const itk::ImageBase<3> *
