@@ -379,7 +379,8 @@ TEST(OptionDeclarations, AreTheOptionsPage)
   };
   std::string expected =
     "# The options of pbdrr and their modes\n\n"
-    "Made from `OptionDeclarations()` (`apps/pbdrr/pbdrrOptions.cxx`), which `pbdrr --help` prints; the test\n"
+    "Made from `OptionDeclarations()` (`apps/pbdrr/pbdrrOptionDeclarations.cxx`), which `pbdrr --help` prints; the "
+    "test\n"
     "`OptionDeclarations.AreTheOptionsPage` (`test/cli/pbdrrPolicyRegistryGTest.cxx`) fails on any difference and "
     "prints\n"
     "this page. A mode an option is not declared for refuses it and writes nothing: a single view with \"NAME: for a\n"
