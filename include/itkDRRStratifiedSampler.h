@@ -21,6 +21,7 @@
 #include "itkDRRCompatibility.h"
 #include "itkDRRPointSampler.h"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -105,6 +106,46 @@ public:
                double                       kernelReach,
                double                       pixelReach) const override;
 
+  /** Where a slab of a render streamed by slabs (docs/design.md section 16) lies on the whole view's curve. The
+   * default is the whole volume: MakeSlabViewPlan() with it is MakeViewPlan(). */
+  struct SlabPlacement
+  {
+    /** The slab's first z plane in the whole volume, a multiple of 8 (whole brick planes). */
+    uint64_t FirstPlane{ 0 };
+    /** Mass of the view's bricks in the slabs before (1/mm), summed in curve order: GetMassAtEnd() of the plan of the
+     * slab before. */
+    double MassBefore{ 0.0 };
+    /** The whole view's mass (1/mm), GetMassAtEnd() of the last slab's plan; 0: not known yet (the first pass), the
+     * plan walks itself alone. */
+    double ViewMass{ 0.0 };
+    /** Non-air voxels of the whole view's bricks (the sum of GetNumberOfVoxelsInPlan()), with ViewMass. */
+    uint64_t ViewVoxels{ 0 };
+    /** The slab holds the view's last brick: its last voxel takes what rounding leaves. */
+    bool LastSlab{ true };
+  };
+
+  /** The plan of a slab: this sampler initialized on a slab of whole brick planes of a volume, projection the whole
+   * volume's (the slab's planes shifted by placement.FirstPlane), culled as MakeViewPlan() culls. Its prefix continues
+   * placement.MassBefore, so that with the whole view's mass its walk is a stretch of the whole view's walk: the
+   * samples of GetSampleWindow() land on the voxels, with the jitter, that the unstreamed render gives them. */
+  ViewPlanConstPointer
+  MakeSlabViewPlan(const DRRPointProjection & projection,
+                   double                     kernelReach,
+                   double                     pixelReach,
+                   const SlabPlacement &      placement) const;
+
+  /** Mass along the curve (1/mm) after a plan's last brick: its MassBefore plus its bricks' mass, summed in curve
+   * order (what the next slab's placement starts from). */
+  static double
+  GetMassAtEnd(const DRRSamplerViewPlan & plan);
+  /** Non-air voxels of a plan's bricks. */
+  static uint64_t
+  GetNumberOfVoxelsInPlan(const DRRSamplerViewPlan & plan);
+  /** The samples [first, end) of an interleaved run (seed, strata and run size; First and Count unused) whose masses
+   * fall in a plan's bricks: the window a slab's render draws. The windows of consecutive slabs tile the run. */
+  static std::array<uint64_t, 2>
+  GetSampleWindow(const DRRSamplerViewPlan & plan, const SampleRange & run);
+
   /** Walks the plan's bricks along the curve (see the class description). */
   void
   GenerateCoordinates(const DRRSamplerViewPlan & plan,
@@ -167,9 +208,23 @@ private:
   /* Cursor layout: Position[0] view brick, [1] group, [2] occupancy bits of the group from the current voxel on,
    * [3] unused (0); Mass[0] mass of the brick before the group, Mass[1] before the voxel. */
 
-  /** Moves the cursor forward to the voxel holding mass target (1/mm, along the view's curve). */
+  /** One stratum of a run: its systematic offset U in [0, 1) and its jitter shifts (uniform 64-bit words). */
+  struct StratumStart
+  {
+    double   Offset;
+    uint32_t Id;
+    uint64_t Shift[2];
+  };
+  /** The strata of a run, sorted by offset: in the merged walk, sample q of the run is point q / R of stratum [q % R]
+   * of this order, at mass (U + q / R) step, and the masses increase with q. */
+  static std::vector<StratumStart>
+  StartStrata(const SampleRange & range);
+  /** Counts the samples of a run below a mass along the curve (defined with the sampler's code). */
+  class SampleCounter;
+
+  /** Moves the cursor forward to the voxel of sample `sample` of the run (the one whose end has more samples below). */
   void
-  Locate(const ViewPlan & plan, double target, Cursor & cursor) const;
+  Locate(const ViewPlan & plan, uint64_t sample, const SampleCounter & counter, Cursor & cursor) const;
 
   /** mu (1/mm) of the 64 voxels of group `group` (0 .. 7) of a brick, in Morton order, 0 outside the volume. */
   void
@@ -193,7 +248,7 @@ private:
   /** A plan of the bricks keep(brick) accepts (in curve order), with their mass prefix. */
   template <typename TKeep>
   std::shared_ptr<const ViewPlan>
-  KeepBricks(TKeep && keep) const;
+  KeepBricks(TKeep && keep, const SlabPlacement & placement) const;
 
   std::vector<Brick>                 m_Bricks; // non-empty bricks, curve order
   DRRAttenuationVolume::ConstPointer m_Volume; // the volume sampled, read group by group

@@ -132,7 +132,78 @@ GatherInPlace(std::vector<T> & items, std::vector<uint64_t> & source)
 
 } // namespace
 
-/** The bricks a render samples, in curve order, with the mass before each (1/mm) and the total; immutable. */
+std::vector<DRRStratifiedSampler::StratumStart>
+DRRStratifiedSampler::StartStrata(const SampleRange & range)
+{
+  const uint64_t            numberOfStrata = std::max<uint64_t>(range.NumberOfStrata, 1);
+  std::vector<StratumStart> strata(numberOfStrata);
+  for (uint64_t r = 0; r < numberOfStrata; ++r)
+  {
+    // Streams of the stratum's own: the same for every chunk on every thread.
+    const uint64_t                           id = numberOfStrata > 1 ? r : range.Stratum;
+    detail::DRRPhiloxRandom                  offsetStream(range.Seed, id, 2);
+    const detail::DRRPhiloxRandom::BlockType u = offsetStream.Next();
+    detail::DRRPhiloxRandom                  shiftStream(range.Seed, id, 4);
+    const detail::DRRPhiloxRandom::BlockType a = shiftStream.Next();
+    strata[r].Offset = static_cast<double>((static_cast<uint64_t>(u[1]) << 21) ^ (u[0] >> 11)) * 0x1.0p-53;
+    strata[r].Id = static_cast<uint32_t>(id);
+    strata[r].Shift[0] = (uint64_t{ a[0] } << 32) | a[1];
+    strata[r].Shift[1] = (uint64_t{ a[2] } << 32) | a[3];
+  }
+  std::sort(strata.begin(), strata.end(), [](const StratumStart & x, const StratumStart & y) {
+    return x.Offset < y.Offset || (x.Offset == y.Offset && x.Id < y.Id);
+  });
+  return strata;
+}
+
+/** How many samples of a run lie below a mass along the curve: the one rule that puts samples in voxels, bricks and
+ * slabs alike, so that a walk started anywhere (a chunk, a batch, a slab of a streamed render) gives every sample the
+ * voxel the walk from the start gives it. Sample q sits at mass (U_[q % R] + q / R) step (the offsets sorted); the
+ * samples below mass x are R floor(y) + #{strata with U < frac(y)}, y = x / step. Offsets are padded with 2 (never
+ * below a fraction) to a fixed count, so that the count has no branch. */
+class DRRStratifiedSampler::SampleCounter
+{
+public:
+  SampleCounter(const std::vector<StratumStart> & strata, double step)
+    : m_NumberOfStrata(strata.size()), m_Few(strata.size() <= paddedStrata), m_InverseStep(1.0 / step), m_Strata(strata)
+  {
+    for (unsigned int r = 0; r < paddedStrata; ++r)
+    {
+      m_Offsets[r] = r < m_NumberOfStrata ? strata[r].Offset : 2.0;
+    }
+  }
+  /** Samples below mass (1/mm along the plan's curve). */
+  uint64_t
+  Below(double mass) const
+  {
+    const double  y = mass * m_InverseStep;
+    const int64_t whole = static_cast<int64_t>(y); // the floor (y >= 0); signed: one instruction
+    const double  fraction = y - static_cast<double>(whole);
+    uint64_t      below = static_cast<uint64_t>(whole) * m_NumberOfStrata;
+    if (m_Few)
+    {
+      return below + (m_Offsets[0] < fraction ? 1 : 0) + (m_Offsets[1] < fraction ? 1 : 0) +
+             (m_Offsets[2] < fraction ? 1 : 0) + (m_Offsets[3] < fraction ? 1 : 0);
+    }
+    for (const StratumStart & stratum : m_Strata)
+    {
+      below += stratum.Offset < fraction ? 1 : 0;
+    }
+    return below;
+  }
+
+private:
+  static constexpr unsigned int     paddedStrata = 4;
+  const uint64_t                    m_NumberOfStrata;
+  const bool                        m_Few;
+  const double                      m_InverseStep;
+  double                            m_Offsets[paddedStrata];
+  const std::vector<StratumStart> & m_Strata;
+};
+
+/** The bricks a render samples, in curve order, with the mass along the curve before each (1/mm) and after the last;
+ * immutable. A slab's plan (MakeSlabViewPlan()) is a stretch of the whole view's curve: its prefix continues the slabs
+ * before it, and the walk's step, its choice of search and its end are the whole view's. */
 class DRRStratifiedSampler::ViewPlan : public DRRSamplerViewPlan
 {
 public:
@@ -140,12 +211,22 @@ public:
            const VolumeSizeType &   volumeSize,
            std::vector<uint32_t> && bricks,
            std::vector<double> &&   prefix,
-           uint64_t                 voxels)
-    : DRRSamplerViewPlan(sampledMass, volumeSize), Bricks(std::move(bricks)), Prefix(std::move(prefix)), Voxels(voxels)
+           uint64_t                 voxels,
+           const SlabPlacement &    placement)
+    : DRRSamplerViewPlan(sampledMass, volumeSize)
+    , Bricks(std::move(bricks))
+    , Prefix(std::move(prefix))
+    , Voxels(voxels)
+    , WalkMass(placement.ViewMass > 0.0 ? placement.ViewMass : Prefix.back())
+    , WalkVoxels(placement.ViewMass > 0.0 ? placement.ViewVoxels : voxels)
+    , EndsWalk(placement.LastSlab)
   {}
-  const std::vector<uint32_t> Bricks; // the bricks sampled (all, or those in the view)
-  const std::vector<double>   Prefix; // mass before each view brick, and the total (1/mm)
-  const uint64_t              Voxels; // non-air voxels in the view bricks
+  const std::vector<uint32_t> Bricks;     // the bricks sampled (all, or those in the view)
+  const std::vector<double>   Prefix;     // mass along the curve before each view brick, and after the last (1/mm)
+  const uint64_t              Voxels;     // non-air voxels in the plan's bricks
+  const double                WalkMass;   // mass of the whole walk (1/mm): its step is WalkMass / (samples per stratum)
+  const uint64_t              WalkVoxels; // non-air voxels of the whole walk: sparse or dense search
+  const bool                  EndsWalk;   // the plan's last voxel is the walk's (it takes what rounding leaves)
 };
 
 const DRRStratifiedSampler::ViewPlan &
@@ -291,7 +372,7 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
   m_NumberOfNonAirVoxels = numberOfVoxels;
   m_TotalMass = totalMass * m_VoxelVolume;
   m_MaximumWeight = 1.0;
-  m_WholeVolumePlan = this->KeepBricks([](const Brick &) { return true; });
+  m_WholeVolumePlan = this->KeepBricks([](const Brick &) { return true; }, SlabPlacement());
   this->Modified();
 }
 
@@ -363,12 +444,12 @@ DRRStratifiedSampler::FillGroupMu(const Brick & brick, uint64_t group, float * m
 
 template <typename TKeep>
 std::shared_ptr<const DRRStratifiedSampler::ViewPlan>
-DRRStratifiedSampler::KeepBricks(TKeep && keep) const
+DRRStratifiedSampler::KeepBricks(TKeep && keep, const SlabPlacement & placement) const
 {
   std::vector<uint32_t> viewBricks;
   std::vector<double>   viewPrefix;
   uint64_t              viewVoxels = 0;
-  double                running = 0.0;
+  double                running = placement.MassBefore;
   for (size_t b = 0; b < m_Bricks.size(); ++b)
   {
     if (keep(m_Bricks[b]))
@@ -381,11 +462,12 @@ DRRStratifiedSampler::KeepBricks(TKeep && keep) const
     }
   }
   viewPrefix.push_back(running);
-  return std::make_shared<const ViewPlan>(running * m_VoxelVolume,
+  return std::make_shared<const ViewPlan>((running - placement.MassBefore) * m_VoxelVolume,
                                           ViewPlan::VolumeSizeType{ { m_Size[0], m_Size[1], m_Size[2] } },
                                           std::move(viewBricks),
                                           std::move(viewPrefix),
-                                          viewVoxels);
+                                          viewVoxels,
+                                          placement);
 }
 
 DRRPointSampler::ViewPlanConstPointer
@@ -397,44 +479,85 @@ DRRStratifiedSampler::MakeViewPlan(const DRRAttenuationVolume &,
   if (!projection)
   {
     // Every pose: the whole volume (the plan Initialize() made; before it, a plan of no bricks).
-    return m_WholeVolumePlan ? m_WholeVolumePlan : this->KeepBricks([](const Brick &) { return true; });
+    return m_WholeVolumePlan ? m_WholeVolumePlan
+                             : this->KeepBricks([](const Brick &) { return true; }, SlabPlacement());
   }
-  // A point of brick b lies in [8 b - 0.5 - reach, 8 b + 7.5 + reach] per axis (continuous index, clipped to what the
-  // kernel can reach of the volume) and counts only if it lands within pixelReach of the detector's pixel centres.
+  return this->MakeSlabViewPlan(*projection, kernelReach, pixelReach, SlabPlacement());
+}
+
+DRRPointSampler::ViewPlanConstPointer
+DRRStratifiedSampler::MakeSlabViewPlan(const DRRPointProjection & projection,
+                                       double                     kernelReach,
+                                       double                     pixelReach,
+                                       const SlabPlacement &      placement) const
+{
+  // A point of brick b lies in [8 b - 0.5 - reach, 8 b + 7.5 + reach] per axis (continuous index of the whole volume:
+  // a slab's planes shifted by its first, clipped to what the kernel can reach of the volume) and counts only if it
+  // lands within pixelReach of the detector's pixel centres.
   const double margin = 1e-6; // pixels, for rounding
   const double columnLow = -pixelReach - margin;
-  const double columnHigh = projection->GetNumberOfColumns() - 1.0 + pixelReach + margin;
+  const double columnHigh = projection.GetNumberOfColumns() - 1.0 + pixelReach + margin;
   const double rowLow = -pixelReach - margin;
-  const double rowHigh = projection->GetNumberOfRows() - 1.0 + pixelReach + margin;
-  return this->KeepBricks([&](const Brick & brick) {
-    double lower[3], upper[3];
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      const double first = static_cast<double>(brick.Origin[a]) * brickSide;
-      const double last = std::min(first + brickSide, static_cast<double>(m_Size[a])) - 1.0;
-      lower[a] = first - kernelReach;
-      upper[a] = last + kernelReach;
-    }
-    double columnMin = std::numeric_limits<double>::infinity(), columnMax = -columnMin;
-    double rowMin = columnMin, rowMax = -columnMin;
-    for (unsigned int corner = 0; corner < 8; ++corner)
-    {
-      const double p[3] = { corner & 1u ? upper[0] : lower[0],
-                            corner & 2u ? upper[1] : lower[1],
-                            corner & 4u ? upper[2] : lower[2] };
-      double column, row, depth;
-      projection->ProjectToDetectorPlane(p, column, row, depth);
-      if (projection->IsPerspective() && !(depth > 0.0))
+  const double rowHigh = projection.GetNumberOfRows() - 1.0 + pixelReach + margin;
+  const double planeShift[3] = { 0.0, 0.0, static_cast<double>(placement.FirstPlane) };
+  return this->KeepBricks(
+    [&](const Brick & brick) {
+      double lower[3], upper[3];
+      for (unsigned int a = 0; a < 3; ++a)
       {
-        return true; // a brick that reaches the source plane has no bounded image: keep it
+        const double first = static_cast<double>(brick.Origin[a]) * brickSide;
+        const double last = std::min(first + brickSide, static_cast<double>(m_Size[a])) - 1.0;
+        lower[a] = first + planeShift[a] - kernelReach;
+        upper[a] = last + planeShift[a] + kernelReach;
       }
-      columnMin = std::min(columnMin, column);
-      columnMax = std::max(columnMax, column);
-      rowMin = std::min(rowMin, row);
-      rowMax = std::max(rowMax, row);
-    }
-    return columnMax >= columnLow && columnMin <= columnHigh && rowMax >= rowLow && rowMin <= rowHigh;
-  });
+      double columnMin = std::numeric_limits<double>::infinity(), columnMax = -columnMin;
+      double rowMin = columnMin, rowMax = -columnMin;
+      for (unsigned int corner = 0; corner < 8; ++corner)
+      {
+        const double p[3] = { corner & 1u ? upper[0] : lower[0],
+                              corner & 2u ? upper[1] : lower[1],
+                              corner & 4u ? upper[2] : lower[2] };
+        double column, row, depth;
+        projection.ProjectToDetectorPlane(p, column, row, depth);
+        if (projection.IsPerspective() && !(depth > 0.0))
+        {
+          return true; // a brick that reaches the source plane has no bounded image: keep it
+        }
+        columnMin = std::min(columnMin, column);
+        columnMax = std::max(columnMax, column);
+        rowMin = std::min(rowMin, row);
+        rowMax = std::max(rowMax, row);
+      }
+      return columnMax >= columnLow && columnMin <= columnHigh && rowMax >= rowLow && rowMin <= rowHigh;
+    },
+    placement);
+}
+
+double
+DRRStratifiedSampler::GetMassAtEnd(const DRRSamplerViewPlan & plan)
+{
+  return AsViewPlan(plan).Prefix.back();
+}
+
+uint64_t
+DRRStratifiedSampler::GetNumberOfVoxelsInPlan(const DRRSamplerViewPlan & plan)
+{
+  return AsViewPlan(plan).Voxels;
+}
+
+std::array<uint64_t, 2>
+DRRStratifiedSampler::GetSampleWindow(const DRRSamplerViewPlan & plan, const SampleRange & run)
+{
+  const ViewPlan & view = AsViewPlan(plan);
+  if (view.Bricks.empty())
+  {
+    return { { 0, 0 } };
+  }
+  const std::vector<StratumStart> strata = StartStrata(run);
+  const SampleCounter             counter(strata, view.WalkMass / static_cast<double>(run.StratumSize / strata.size()));
+  const uint64_t                  first = std::min(counter.Below(view.Prefix.front()), run.StratumSize);
+  const uint64_t end = view.EndsWalk ? run.StratumSize : std::min(counter.Below(view.Prefix.back()), run.StratumSize);
+  return { { first, std::max(first, end) } };
 }
 
 size_t
@@ -444,18 +567,24 @@ DRRStratifiedSampler::GetNumberOfBricksInView(const DRRSamplerViewPlan & plan) c
 }
 
 void
-DRRStratifiedSampler::Locate(const ViewPlan & plan, double target, Cursor & cursor) const
+DRRStratifiedSampler::Locate(const ViewPlan &      plan,
+                             uint64_t              sample,
+                             const SampleCounter & counter,
+                             Cursor &              cursor) const
 {
+  // The voxel whose end holds more than `sample` samples below it, the ends counted as the dense walk counts them
+  // (VoxelEnd()), so that both give a sample the same voxel.
   const std::vector<uint32_t> & viewBricks = plan.Bricks;
   const std::vector<double> &   viewPrefix = plan.Prefix;
   const uint64_t                numberOfViewBricks = viewBricks.size();
   uint64_t                      b = cursor.Position[0];
-  if (!cursor.Valid || !(target < viewPrefix[b + 1]))
+  if (!cursor.Valid || !(counter.Below(viewPrefix[b + 1]) > sample))
   {
-    // The brick with prefix <= target < next prefix (the last one if rounding put the target at the very end).
+    // The first brick whose end holds more samples (the last one if rounding put the sample at the very end).
     const auto first = viewPrefix.begin() + static_cast<std::ptrdiff_t>(cursor.Valid ? b + 1 : 1);
-    b = static_cast<uint64_t>(std::upper_bound(first, viewPrefix.end() - 1, target) - viewPrefix.begin()) - 1;
-    b = std::min(b, numberOfViewBricks - 1);
+    const auto end =
+      std::partition_point(first, viewPrefix.end() - 1, [&](double mass) { return counter.Below(mass) <= sample; });
+    b = std::min(static_cast<uint64_t>(end - viewPrefix.begin()) - 1, numberOfViewBricks - 1);
     cursor.Valid = true;
     cursor.Position[0] = b;
     cursor.Position[1] = 0;
@@ -465,16 +594,16 @@ DRRStratifiedSampler::Locate(const ViewPlan & plan, double target, Cursor & curs
     cursor.Mass[1] = 0.0;
   }
   const Brick & brick = m_Bricks[viewBricks[b]];
-  const double  rest = target - viewPrefix[b]; // mass into the brick, 1/mm
+  const double  base = viewPrefix[b];
   uint64_t      group = cursor.Position[1];
-  if (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest)
+  if (group < brick.LastGroup && counter.Below(base + (cursor.Mass[0] + brick.GroupMass[group])) <= sample)
   {
     // Skip whole groups, then start the walk at the first voxel of the group reached.
     do
     {
       cursor.Mass[0] += brick.GroupMass[group];
       ++group;
-    } while (group < brick.LastGroup && cursor.Mass[0] + brick.GroupMass[group] <= rest);
+    } while (group < brick.LastGroup && counter.Below(base + (cursor.Mass[0] + brick.GroupMass[group])) <= sample);
     cursor.Position[1] = group;
     cursor.Position[2] = brick.Occupancy[group];
     cursor.Mass[1] = cursor.Mass[0];
@@ -483,7 +612,9 @@ DRRStratifiedSampler::Locate(const ViewPlan & plan, double target, Cursor & curs
   const float * groupMu = this->CachedGroupMu(viewBricks[b], group, cursor);
   uint64_t      bits = cursor.Position[2];
   double        before = cursor.Mass[1];
-  for (uint64_t next = bits & (bits - 1); next != 0 && before + groupMu[LowestBit(bits)] <= rest; next &= next - 1)
+  for (uint64_t next = bits & (bits - 1);
+       next != 0 && counter.Below(base + (before + groupMu[LowestBit(bits)])) <= sample;
+       next &= next - 1)
   {
     before += groupMu[LowestBit(bits)];
     bits = next;
@@ -506,43 +637,6 @@ DRRStratifiedSampler::CoordinatesAt(const ViewPlan & plan,
   k = v[2];
 }
 
-namespace
-{
-/** One stratum of a run: its systematic offset U in [0, 1) and its jitter shifts (uniform 64-bit words). */
-struct StratumStart
-{
-  double   Offset;
-  uint32_t Id;
-  uint64_t Shift[2];
-};
-
-/** The strata of a run, sorted by offset: in the merged walk, sample q of the run is point q / R of stratum
- * [q % R] of this order, at mass (U + q / R) step, and the masses increase with q. */
-std::vector<StratumStart>
-StartStrata(const DRRPointSampler::SampleRange & range)
-{
-  const uint64_t            numberOfStrata = std::max<uint64_t>(range.NumberOfStrata, 1);
-  std::vector<StratumStart> strata(numberOfStrata);
-  for (uint64_t r = 0; r < numberOfStrata; ++r)
-  {
-    // Streams of the stratum's own: the same for every chunk on every thread.
-    const uint64_t                           id = numberOfStrata > 1 ? r : range.Stratum;
-    detail::DRRPhiloxRandom                  offsetStream(range.Seed, id, 2);
-    const detail::DRRPhiloxRandom::BlockType u = offsetStream.Next();
-    detail::DRRPhiloxRandom                  shiftStream(range.Seed, id, 4);
-    const detail::DRRPhiloxRandom::BlockType a = shiftStream.Next();
-    strata[r].Offset = static_cast<double>((static_cast<uint64_t>(u[1]) << 21) ^ (u[0] >> 11)) * 0x1.0p-53;
-    strata[r].Id = static_cast<uint32_t>(id);
-    strata[r].Shift[0] = (uint64_t{ a[0] } << 32) | a[1];
-    strata[r].Shift[1] = (uint64_t{ a[2] } << 32) | a[3];
-  }
-  std::sort(strata.begin(), strata.end(), [](const StratumStart & x, const StratumStart & y) {
-    return x.Offset < y.Offset || (x.Offset == y.Offset && x.Id < y.Id);
-  });
-  return strata;
-}
-} // namespace
-
 void
 DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
                                           detail::DRRPhiloxRandom &,
@@ -564,8 +658,8 @@ DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
   cursor.Stratum = range.Stratum;
   const std::vector<StratumStart> strata = StartStrata(range);
   const uint64_t                  numberOfStrata = strata.size();
-  const double                    step = viewPrefix.back() / static_cast<double>(range.StratumSize / numberOfStrata);
-  const uint64_t                  firstIndex = range.First - range.StratumFirst;
+  const SampleCounter counter(strata, view.WalkMass / static_cast<double>(range.StratumSize / numberOfStrata));
+  const uint64_t      firstIndex = range.First - range.StratumFirst;
   // Sample q of the run: point q / R of stratum strata[q % R]; kept as (point, position) to avoid divisions.
   uint64_t point = firstIndex / numberOfStrata;
   uint64_t position = firstIndex % numberOfStrata;
@@ -596,14 +690,13 @@ DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
       ++point;
     }
   };
-  const auto target = [&]() { return (strata[position].Offset + static_cast<double>(point)) * step; };
 
-  if (range.StratumSize < view.Voxels / 2)
+  if (range.StratumSize < view.WalkVoxels / 2)
   {
     // Sparse: samples are many voxels apart; find each.
     for (uint64_t s = 0; s < range.Count; ++s)
     {
-      this->Locate(view, target(), cursor);
+      this->Locate(view, firstIndex + s, counter, cursor);
       uint32_t i, j, k;
       this->CoordinatesAt(view, cursor, i, j, k);
       emit(s, i, j, k);
@@ -614,33 +707,8 @@ DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
   // first sample of a chunk is searched for); then the strata and jitter of the samples.
   if (!cursor.Valid)
   {
-    this->Locate(view, target(), cursor);
+    this->Locate(view, firstIndex, counter, cursor);
   }
-  // The number of samples below mass x is R floor(y) + #{strata with U < frac(y)}, y = x / step; offsets padded with
-  // 2 (never below a fraction) to a fixed count, so that the count has no branch.
-  constexpr unsigned int paddedStrata = 4;
-  double                 offsets[paddedStrata];
-  for (unsigned int r = 0; r < paddedStrata; ++r)
-  {
-    offsets[r] = r < numberOfStrata ? strata[r].Offset : 2.0;
-  }
-  const bool few = numberOfStrata <= paddedStrata;
-  const auto countBelow = [&](double y) {
-    const int64_t whole = static_cast<int64_t>(y); // the floor (y >= 0); signed: one instruction
-    const double  fraction = y - static_cast<double>(whole);
-    uint64_t      below = static_cast<uint64_t>(whole) * numberOfStrata;
-    if (few)
-    {
-      return below + (offsets[0] < fraction ? 1 : 0) + (offsets[1] < fraction ? 1 : 0) +
-             (offsets[2] < fraction ? 1 : 0) + (offsets[3] < fraction ? 1 : 0);
-    }
-    for (const StratumStart & stratum : strata)
-    {
-      below += stratum.Offset < fraction ? 1 : 0;
-    }
-    return below;
-  };
-  const double   inverseStep = 1.0 / step;
   const uint64_t endIndex = firstIndex + range.Count;
   uint64_t       index = firstIndex;
   // The cursor (see Locate()) in locals: it changes at every voxel.
@@ -652,13 +720,16 @@ DRRStratifiedSampler::GenerateCoordinates(const DRRSamplerViewPlan & plan,
   {
     const Brick & brick = m_Bricks[viewBricks[b]];
     const double  base = viewPrefix[b];
-    const bool    lastGroupOfView = b + 1 == viewBricks.size() && group == brick.LastGroup;
-    // The voxels left in the group; the last voxel of the view takes what rounding leaves.
+    const bool    lastGroupOfWalk = view.EndsWalk && b + 1 == viewBricks.size() && group == brick.LastGroup;
+    // The voxels left in the group; the last voxel of the walk takes what rounding leaves. The last voxel of a group
+    // ends where the group does (the sum of the group masses, as Locate() skips groups), whatever the rounding of the
+    // voxels' sum: every walk, whole or a slab's, then puts the same samples in every group and brick.
     for (; bits; bits &= bits - 1)
     {
-      const double   end = before + mu[LowestBit(bits)];
-      const bool     lastVoxel = lastGroupOfView && !(bits & (bits - 1));
-      const uint64_t last = lastVoxel ? endIndex : std::min<uint64_t>(countBelow((base + end) * inverseStep), endIndex);
+      const bool     lastInGroup = !(bits & (bits - 1));
+      const double   end = lastInGroup ? groupStart + brick.GroupMass[group] : before + mu[LowestBit(bits)];
+      const bool     lastVoxel = lastGroupOfWalk && lastInGroup;
+      const uint64_t last = lastVoxel ? endIndex : std::min<uint64_t>(counter.Below(base + end), endIndex);
       if (last > index)
       {
         const auto v = VoxelInBrick(brick.Origin, 64 * group + LowestBit(bits));
