@@ -70,6 +70,24 @@ public:
   /** Run-time type information (and related methods). */
   itkOverrideGetNameOfClassMacro(DRRControlVariate);
 
+  /** A control variate of a volume read slab by slab (docs/design.md section 16), for its coarse image alone: the
+   * coarse volume of the whole, wholeSize voxels with this index-to-physical matrix and first voxel centre, assembled
+   * from the coarse planes of the slabs' own control variates (AddSlab()) and finished by EndSlabs(). The slabs start
+   * at multiples of F planes, so that a slab's blocks are the whole volume's and its own residual is the whole one's
+   * there. totalMass: the whole volume's M (mm^2). */
+  void
+  BeginSlabs(const DRRAttenuationVolume::SizeType &   wholeSize,
+             const DRRAttenuationVolume::MatrixType & indexToPhysical,
+             const DRRAttenuationVolume::PointType &  origin,
+             unsigned int                             factor);
+  /** Copies the coarse planes of slab, the control variate (of factor F) of the whole volume's planes from
+   * firstPlane (a multiple of F) on, and adds its mass to the total. */
+  void
+  AddSlab(const DRRControlVariate & slab, uint64_t firstPlane);
+  /** Builds the coarse volume of the planes the slabs gave. */
+  void
+  EndSlabs(MultiThreaderBase * threader);
+
   /** The factor that stands for "choose F for the volume and the view" (ChooseFactor()) in the settings of the filters
    * and of pbdrr. */
   static constexpr unsigned int AutomaticFactor = 0xFFFFFFFFu;
@@ -166,11 +184,16 @@ protected:
 private:
   void
   BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
+  /** The coarse volume's index-to-physical matrix and origin for the fine grid of volume. */
+  void
+  SetCoarseGrid(const DRRAttenuationVolume & volume);
 
-  unsigned int                  m_Factor{ 0 };
-  double                        m_TotalMass{ 0.0 };
-  DRRAttenuationVolume::Pointer m_CoarseVolume;
-  DRRAttenuationVolume::Pointer m_ResidualVolume;
+  unsigned int                   m_Factor{ 0 };
+  std::vector<float>             m_SlabCoarseMu; // the coarse planes the slabs gave so far (BeginSlabs() .. EndSlabs())
+  DRRAttenuationVolume::SizeType m_SlabCoarseSize{ { 0, 0, 0 } };
+  double                         m_TotalMass{ 0.0 };
+  DRRAttenuationVolume::Pointer  m_CoarseVolume;
+  DRRAttenuationVolume::Pointer  m_ResidualVolume;
 };
 } // namespace itk
 

@@ -242,6 +242,17 @@ public:
    * and the labels: this filter's are not used, and a label image or label setting on it is refused. */
   itkSetInputMacro(AttenuationVolume, DRRAttenuationVolume);
 
+  ///@{
+  /** Streaming (issue 30, docs/design.md section 16): the volume is read and rendered in this many slabs of whole z
+   * planes (its slowest axis), each requested from the pipeline in turn (ITK's requested regions: a streaming reader,
+   * as MetaImage's, NRRD's or uncompressed NIfTI's, reads only that slab), so that the render holds one slab and its
+   * attenuation model at a time. The projection is the sum of the slabs' (each filter says how exactly). 1 (the
+   * default) reads the whole volume at once; a filter may round slabs to whole blocks of planes, and makes at most one
+   * slab per block. Not with labels, channels or a shared attenuation volume. */
+  itkSetClampMacro(NumberOfStreamDivisions, unsigned int, 1, NumericTraits<unsigned int>::max());
+  itkGetConstMacro(NumberOfStreamDivisions, unsigned int);
+  ///@}
+
   /** The attenuation model rendered: the shared one, or the output of the filter's own stage, brought up to date now
    * (ITK's pipeline: built only if its inputs or settings changed). */
   const DRRAttenuationVolume *
@@ -258,7 +269,8 @@ protected:
   /** Output size, spacing, origin and direction from the geometry (see DRRProjectionGeometry). */
   void
   GenerateOutputInformation() override;
-  /** Requests the whole input: any voxel may project anywhere. */
+  /** Requests the whole input (any voxel may project anywhere), or when streaming its first slab (the others are
+   * requested slab by slab while the filter renders). */
   void
   GenerateInputRequestedRegion() override;
   /** Generates the whole output: every point may land on any pixel. */
@@ -269,9 +281,34 @@ protected:
   VerifyInputInformation() const override
   {}
   /** The rules of the inputs and outputs, checked before every update: an input volume or a shared attenuation model
-   * (one of them), no label settings beside a shared model, and an output mode the output pixel type holds. */
+   * (one of them), no label settings beside a shared model, an output mode the output pixel type holds, and for
+   * streaming an input volume without labels or channels. */
   void
   VerifyPreconditions() const override;
+
+  /** Planes a slab of a streamed render starts at a multiple of (1: any plane; the point-based filter's bricks and
+   * coarse blocks need more). */
+  virtual uint64_t
+  GetSlabAlignment() const
+  {
+    return 1;
+  }
+  /** Slabs the volume is streamed in: NumberOfStreamDivisions, at most one per block of GetSlabAlignment() planes
+   * (1: not streamed). */
+  unsigned int
+  GetNumberOfSlabs() const;
+  /** Slab number `slab` of the input's largest region: whole z planes, the blocks of planes shared out evenly. */
+  typename InputImageType::RegionType
+  GetSlabRegion(unsigned int slab) const;
+  /** Requests slab `slab` from upstream (a streaming reader reads it alone; an image in memory is already there) and
+   * builds its attenuation model with the filter's transfer function: its index-to-physical matrix the volume's, its
+   * origin the slab's first plane, 16-bit values read in place. */
+  DRRAttenuationVolume::Pointer
+  ReadSlab(unsigned int slab);
+  /** A model of no voxels with the whole input's grid (index-to-physical matrix and first voxel), for the whole
+   * volume's projection without reading it. */
+  DRRAttenuationVolume::Pointer
+  MakeInputGrid() const;
 
   /** The affine map of the transform (identity without one); throws for a non-linear transform. */
   void
@@ -320,6 +357,7 @@ private:
   OutputModeEnum                                m_OutputMode{ OutputModeEnum::LineIntegral };
   double                                        m_WindowLevel{ 0.0 };
   double                                        m_WindowWidth{ 0.0 };
+  unsigned int                                  m_NumberOfStreamDivisions{ 1 };
   typename AttenuationVolumeFilterType::Pointer m_AttenuationVolumeFilter; // the filter's own preprocessing stage
 };
 } // namespace itk

@@ -98,6 +98,17 @@ DRRImageFilterBase<TInputImage, TOutputImage>::VerifyPreconditions() const
   {
     itkExceptionMacro("an integer output pixel type holds only the Gray8 or Gray16 output modes, not " << m_OutputMode);
   }
+  if (m_NumberOfStreamDivisions > 1)
+  {
+    if (!this->GetInput())
+    {
+      itkExceptionMacro("streaming reads the input volume slab by slab: a shared attenuation volume is already whole");
+    }
+    if (this->GetLabelImage() || this->GetLabelChannels() || this->GetMaterialChannels())
+    {
+      itkExceptionMacro("streaming renders without labels or channels (a slab's labels would be resampled apart)");
+    }
+  }
   if (!this->GetSharedAttenuationVolume())
   {
     if (!this->GetInput())
@@ -191,7 +202,11 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
 {
   Superclass::GenerateInputRequestedRegion();
   auto * input = const_cast<InputImageType *>(this->GetInput());
-  if (input)
+  if (input && this->GetNumberOfSlabs() > 1)
+  {
+    input->SetRequestedRegion(this->GetSlabRegion(0));
+  }
+  else if (input)
   {
     input->SetRequestedRegionToLargestPossibleRegion();
   }
@@ -268,6 +283,80 @@ DRRImageFilterBase<TInputImage, TOutputImage>::ComputeTransformAffine(DRRPointPr
   {
     offset[r] = image0[r];
   }
+}
+
+template <typename TInputImage, typename TOutputImage>
+unsigned int
+DRRImageFilterBase<TInputImage, TOutputImage>::GetNumberOfSlabs() const
+{
+  const InputImageType * input = this->GetInput();
+  if (!input || m_NumberOfStreamDivisions <= 1)
+  {
+    return 1;
+  }
+  const uint64_t planes = input->GetLargestPossibleRegion().GetSize()[2];
+  const uint64_t alignment = std::max<uint64_t>(this->GetSlabAlignment(), 1);
+  const uint64_t blocks = std::max<uint64_t>((planes + alignment - 1) / alignment, 1);
+  return static_cast<unsigned int>(std::min<uint64_t>(m_NumberOfStreamDivisions, blocks));
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+DRRImageFilterBase<TInputImage, TOutputImage>::GetSlabRegion(unsigned int slab) const ->
+  typename InputImageType::RegionType
+{
+  auto           region = this->GetInput()->GetLargestPossibleRegion();
+  const uint64_t planes = region.GetSize()[2];
+  const uint64_t alignment = std::max<uint64_t>(this->GetSlabAlignment(), 1);
+  const uint64_t blocks = (planes + alignment - 1) / alignment;
+  const uint64_t slabs = this->GetNumberOfSlabs();
+  const uint64_t first = std::min(planes, alignment * (blocks * slab / slabs));
+  const uint64_t end = std::min(planes, alignment * (blocks * (slab + 1) / slabs));
+  region.SetIndex(2, region.GetIndex()[2] + static_cast<IndexValueType>(first));
+  region.SetSize(2, static_cast<SizeValueType>(end - first));
+  return region;
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRAttenuationVolume::Pointer
+DRRImageFilterBase<TInputImage, TOutputImage>::ReadSlab(unsigned int slab)
+{
+  auto *     input = const_cast<InputImageType *>(this->GetInput());
+  const auto largest = input->GetLargestPossibleRegion();
+  const auto region = this->GetSlabRegion(slab);
+  input->SetRequestedRegion(region);
+  input->PropagateRequestedRegion();
+  input->UpdateOutputData();
+  const auto buffered = input->GetBufferedRegion();
+  if (!buffered.IsInside(region) || buffered.GetSize()[0] != largest.GetSize()[0] ||
+      buffered.GetSize()[1] != largest.GetSize()[1])
+  {
+    itkExceptionMacro("the input's source gave " << buffered << " for the slab " << region
+                                                 << ": a slab must be buffered in whole z planes");
+  }
+  auto volume = DRRAttenuationVolume::New();
+  AttenuationVolumeFilterType::SetIndexToPhysical(*input, region.GetIndex(), *volume);
+  const size_t plane = buffered.GetSize()[0] * buffered.GetSize()[1];
+  const auto * values =
+    input->GetBufferPointer() + plane * static_cast<size_t>(region.GetIndex()[2] - buffered.GetIndex()[2]);
+  MultiThreaderBase * threader = this->GetMultiThreader();
+  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  volume->Build(values,
+                { { region.GetSize()[0], region.GetSize()[1], region.GetSize()[2] } },
+                *this->GetTransferFunction(),
+                threader,
+                input->GetPixelContainer());
+  return volume;
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRAttenuationVolume::Pointer
+DRRImageFilterBase<TInputImage, TOutputImage>::MakeInputGrid() const
+{
+  const InputImageType * input = this->GetInput();
+  auto                   grid = DRRAttenuationVolume::New();
+  AttenuationVolumeFilterType::SetIndexToPhysical(*input, input->GetLargestPossibleRegion().GetIndex(), *grid);
+  return grid;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -403,6 +492,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Inde
   os << indent << "OutputMode: " << m_OutputMode << std::endl;
   os << indent << "WindowLevel: " << m_WindowLevel << std::endl;
   os << indent << "WindowWidth: " << m_WindowWidth << std::endl;
+  os << indent << "NumberOfStreamDivisions: " << m_NumberOfStreamDivisions << std::endl;
   os << indent << "AttenuationVolume: " << (this->GetSharedAttenuationVolume() ? "shared" : "its own stage's")
      << std::endl;
   os << indent << "AttenuationVolumeFilter:" << std::endl;

@@ -165,6 +165,13 @@ public:
   ModifiedTimeType
   GetMTime() const override;
 
+  /** Gives volume the index-to-physical mapping of input's grid (direction times spacing) with its first voxel at
+   * input's index firstVoxel (the largest region's first, or a streamed slab's). */
+  static void
+  SetIndexToPhysical(const InputImageType &                     input,
+                     const typename InputImageType::IndexType & firstVoxel,
+                     OutputType &                               volume);
+
 protected:
   DRRImageToAttenuationVolumeFilter();
   ~DRRImageToAttenuationVolumeFilter() override = default;
@@ -194,9 +201,6 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  /** The volume's index-to-physical mapping: direction times spacing, and the first voxel's centre. */
-  void
-  SetIndexToPhysical(const InputImageType & input, OutputType & volume) const;
   /** Material channels: every voxel's material (transfer function's table) as its channel. */
   void
   ApplyMaterials(const InputImageType & input, OutputType & volume);

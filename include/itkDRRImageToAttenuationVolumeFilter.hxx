@@ -145,7 +145,7 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::GenerateData()
   {
     size[a] = region.GetSize()[a];
   }
-  this->SetIndexToPhysical(*input, *volume);
+  SetIndexToPhysical(*input, input->GetLargestPossibleRegion().GetIndex(), *volume);
   // On the filter's threads, as many as its work units.
   MultiThreaderBase * threader = this->GetMultiThreader();
   threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
@@ -157,8 +157,10 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::GenerateData()
 
 template <typename TInputImage>
 void
-DRRImageToAttenuationVolumeFilter<TInputImage>::SetIndexToPhysical(const InputImageType & input,
-                                                                   OutputType &           volume) const
+DRRImageToAttenuationVolumeFilter<TInputImage>::SetIndexToPhysical(
+  const InputImageType &                     input,
+  const typename InputImageType::IndexType & firstVoxel,
+  OutputType &                               volume)
 {
   OutputType::MatrixType indexToPhysical;
   for (unsigned int r = 0; r < 3; ++r)
@@ -168,12 +170,12 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::SetIndexToPhysical(const InputIm
       indexToPhysical[r][c] = input.GetDirection()[r][c] * input.GetSpacing()[c];
     }
   }
-  typename InputImageType::PointType firstVoxel;
-  input.TransformIndexToPhysicalPoint(input.GetLargestPossibleRegion().GetIndex(), firstVoxel);
+  typename InputImageType::PointType firstPoint;
+  input.TransformIndexToPhysicalPoint(firstVoxel, firstPoint);
   OutputType::PointType origin;
   for (unsigned int r = 0; r < 3; ++r)
   {
-    origin[r] = firstVoxel[r];
+    origin[r] = firstPoint[r];
   }
   volume.SetIndexToPhysical(indexToPhysical, origin);
 }

@@ -125,11 +125,12 @@ public:
   };
 
   /** The plan of a slab: this sampler initialized on a slab of whole brick planes of a volume, projection the whole
-   * volume's (the slab's planes shifted by placement.FirstPlane), culled as MakeViewPlan() culls. Its prefix continues
+   * volume's (the slab's planes shifted by placement.FirstPlane), culled as MakeViewPlan() culls (null: every brick of
+   * the slab). Its prefix continues
    * placement.MassBefore, so that with the whole view's mass its walk is a stretch of the whole view's walk: the
    * samples of GetSampleWindow() land on the voxels, with the jitter, that the unstreamed render gives them. */
   ViewPlanConstPointer
-  MakeSlabViewPlan(const DRRPointProjection & projection,
+  MakeSlabViewPlan(const DRRPointProjection * projection,
                    double                     kernelReach,
                    double                     pixelReach,
                    const SlabPlacement &      placement) const;

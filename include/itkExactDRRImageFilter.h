@@ -62,18 +62,6 @@ public:
   ///@}
 
   ///@{
-  /** Streaming (issue 30): the volume is read and integrated in this many slabs of whole z planes (its slowest axis),
-   * each requested from the pipeline in turn (ITK's requested regions: a streaming reader, as MetaImage's, NRRD's or
-   * uncompressed NIfTI's, reads only that slab), so that the render holds one slab and its attenuation model at a
-   * time. Every ray's integral is the sum of its parts in the slabs it crosses (Siddon's segments end on the same
-   * planes), so the projection equals the unstreamed one to rounding. 1 (the default) reads the whole volume at once;
-   * more slabs than z planes are as many slabs as planes. Box kernel only (a tent voxel reaches into the next slab);
-   * not with labels, material channels or a shared attenuation volume. */
-  itkSetClampMacro(NumberOfStreamDivisions, unsigned int, 1, NumericTraits<unsigned int>::max());
-  itkGetConstMacro(NumberOfStreamDivisions, unsigned int);
-  ///@}
-
-  ///@{
   /** k: rays per pixel side (k x k rays per pixel, at the centres of a regular subdivision), 1 to 1024. Default 1. */
   itkSetClampMacro(RaysPerPixelSide, unsigned int, 1, 1024);
   itkGetConstMacro(RaysPerPixelSide, unsigned int);
@@ -86,29 +74,19 @@ protected:
   /** Integrates k x k rays per pixel through the volume (slab by slab when streaming) and writes the output. */
   void
   GenerateData() override;
-  /** The whole volume, or when streaming its first slab (the others are requested by GenerateData()). */
-  void
-  GenerateInputRequestedRegion() override;
-  /** The base's rules, and streaming's: the box kernel, no labels or channels, the volume as input. */
+  /** The base's rules, and streaming's: the box kernel. */
   void
   VerifyPreconditions() const override;
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  /** Number of slabs the volume is streamed in: NumberOfStreamDivisions, at most one per z plane. */
-  unsigned int
-  GetNumberOfSlabs() const;
-  /** Slab number `slab` of the input's largest region: whole z planes, the planes shared out evenly. */
-  typename TInputImage::RegionType
-  GetSlabRegion(unsigned int slab) const;
   /** The projection as the sum of the slabs' projections, each slab requested from the pipeline and modelled alone. */
   std::vector<double>
   RenderStreamed();
 
   KernelEnum   m_ReconstructionKernel{ KernelEnum::Box };
   unsigned int m_RaysPerPixelSide{ 1 };
-  unsigned int m_NumberOfStreamDivisions{ 1 };
 };
 } // namespace itk
 

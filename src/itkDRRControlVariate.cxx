@@ -141,10 +141,17 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
       }
     },
     threader);
+  this->SetCoarseGrid(volume);
+}
+
+void
+DRRControlVariate::SetCoarseGrid(const DRRAttenuationVolume & volume)
+{
   // Coarse voxel c is the box of fine voxels F c .. F c + F - 1: its centre is at fine index F c + (F - 1) / 2.
-  DRRAttenuationVolume::MatrixType matrix = volume.GetIndexToPhysicalMatrix() * static_cast<double>(F);
+  const double                     F = static_cast<double>(m_Factor);
+  DRRAttenuationVolume::MatrixType matrix = volume.GetIndexToPhysicalMatrix() * F;
   DRRAttenuationVolume::PointType  origin = volume.GetOrigin();
-  const double                     shift = 0.5 * (static_cast<double>(F) - 1.0);
+  const double                     shift = 0.5 * (F - 1.0);
   for (unsigned int r = 0; r < 3; ++r)
   {
     for (unsigned int a = 0; a < 3; ++a)
@@ -153,6 +160,70 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
     }
   }
   m_CoarseVolume->SetIndexToPhysical(matrix, origin);
+}
+
+void
+DRRControlVariate::BeginSlabs(const DRRAttenuationVolume::SizeType &   wholeSize,
+                              const DRRAttenuationVolume::MatrixType & indexToPhysical,
+                              const DRRAttenuationVolume::PointType &  origin,
+                              unsigned int                             factor)
+{
+  if (factor < 2 || factor > MaximumFactor)
+  {
+    itkExceptionMacro("the control variate's coarsening factor must be 2 to " << MaximumFactor << ", not " << factor);
+  }
+  m_Factor = factor;
+  m_TotalMass = 0.0;
+  m_ResidualVolume = DRRAttenuationVolume::New(); // no residual: each slab has its own
+  m_CoarseVolume = DRRAttenuationVolume::New();
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    m_SlabCoarseSize[a] = (wholeSize[a] + factor - 1) / factor;
+  }
+  m_SlabCoarseMu.assign(m_SlabCoarseSize[0] * m_SlabCoarseSize[1] * m_SlabCoarseSize[2], 0.0f);
+  // The coarse grid of the whole (BuildCoarseVolume()): a header with no voxel gives the matrix and origin.
+  auto header = DRRAttenuationVolume::New();
+  header->SetIndexToPhysical(indexToPhysical, origin);
+  this->SetCoarseGrid(*header);
+}
+
+void
+DRRControlVariate::AddSlab(const DRRControlVariate & slab, uint64_t firstPlane)
+{
+  const DRRAttenuationVolume & coarse = slab.GetCoarseVolume();
+  const uint64_t               plane = m_SlabCoarseSize[0] * m_SlabCoarseSize[1];
+  const uint64_t               firstCoarsePlane = firstPlane / m_Factor;
+  if (slab.GetFactor() != m_Factor || firstPlane % m_Factor != 0 || coarse.GetSize()[0] != m_SlabCoarseSize[0] ||
+      coarse.GetSize()[1] != m_SlabCoarseSize[1] || firstCoarsePlane + coarse.GetSize()[2] > m_SlabCoarseSize[2])
+  {
+    itkExceptionMacro("the slab's control variate (F " << slab.GetFactor() << ", from plane " << firstPlane
+                                                       << ") does not fit the whole one's coarse grid (F " << m_Factor
+                                                       << ")");
+  }
+  const float * mu = coarse.GetMuBuffer();
+  std::copy(mu,
+            mu + plane * coarse.GetSize()[2],
+            m_SlabCoarseMu.begin() + static_cast<std::ptrdiff_t>(plane * firstCoarsePlane));
+  m_TotalMass += slab.GetTotalMass();
+}
+
+void
+DRRControlVariate::EndSlabs(MultiThreaderBase * threader)
+{
+  const DRRAttenuationVolume::MatrixType matrix = m_CoarseVolume->GetIndexToPhysicalMatrix();
+  const DRRAttenuationVolume::PointType  origin = m_CoarseVolume->GetOrigin();
+  const std::vector<float>               planes = std::move(m_SlabCoarseMu);
+  m_SlabCoarseMu = {};
+  m_CoarseVolume->BuildFromMu(
+    m_SlabCoarseSize,
+    [&](uint64_t begin, uint64_t end, float * coarseMu) {
+      std::copy(planes.begin() + static_cast<std::ptrdiff_t>(begin),
+                planes.begin() + static_cast<std::ptrdiff_t>(end),
+                coarseMu + begin);
+    },
+    threader);
+  m_CoarseVolume->SetIndexToPhysical(matrix, origin);
+  this->Modified();
 }
 
 double

@@ -24,6 +24,7 @@
 #include "itkDRRRenderWorkers.h"
 
 #include <algorithm>
+#include <array>
 
 namespace itk
 {
@@ -35,32 +36,47 @@ template <typename TKernel>
 class PointDrawer
 {
 public:
-  /** Draws from the sampler's plan for the render (of the same sampler), with the sampler's traits. */
+  /** Draws from the sampler's plan for the render (of the same sampler), with the sampler's traits; the samples of
+   * window alone (a slab's, when streaming), placed in the whole volume's continuous index. */
   PointDrawer(const DRRPointSampler &      sampler,
               const DRRSamplerViewPlan &   plan,
               const DRRSamplerTraits &     traits,
               uint64_t                     seed,
-              const DRRAttenuationVolume * signedResidual = nullptr)
+              const DRRAttenuationVolume * signedResidual = nullptr,
+              const SlabWindow &           window = SlabWindow())
     : m_Sampler(sampler)
     , m_Plan(plan)
     , m_ProvidesJitter(traits.ProvidesJitter)
     , m_Seed(seed)
     , m_SignedResidual(signedResidual)
+    , m_Window(window)
   {}
+
+  /** The chunks that hold the window's samples: [first, end). */
+  std::array<uint64_t, 2>
+  GetChunks(const Strata & strata) const
+  {
+    const uint64_t end = std::min(m_Window.End, strata.GetNumberOfSamples());
+    const uint64_t first = std::min(m_Window.First, end);
+    return { { first / DRRPointRenderer::SamplesPerChunk,
+               (end + DRRPointRenderer::SamplesPerChunk - 1) / DRRPointRenderer::SamplesPerChunk } };
+  }
 
   /** Calls consume(first, count) after each batch of the chunk's samples is placed (first: its first sample). */
   template <typename TConsume>
   inline void
   DrawChunk(uint64_t chunk, const Strata & strata, Batch & batch, TConsume && consume) const
   {
-    const uint64_t end = std::min((chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples());
+    const uint64_t end =
+      std::min({ (chunk + 1) * DRRPointRenderer::SamplesPerChunk, strata.GetNumberOfSamples(), m_Window.End });
     detail::DRRPhiloxRandom      samplerStream(m_Seed, chunk, 0);
     detail::DRRPhiloxRandom      kernelStream(m_Seed, chunk, 1);
     DRRPointSampler::Cursor      cursor;
     DRRPointSampler::SampleRange range;
     range.Seed = m_Seed;
     range.NumberOfStrata = strata.IsInterleaved() ? strata.GetNumberOfStrata() : 1;
-    for (range.First = chunk * DRRPointRenderer::SamplesPerChunk; range.First < end; range.First += range.Count)
+    for (range.First = std::max(chunk * DRRPointRenderer::SamplesPerChunk, m_Window.First); range.First < end;
+         range.First += range.Count)
     {
       // A batch never straddles two runs.
       range.Stratum = strata.RunOfSample(range.First);
@@ -81,7 +97,7 @@ public:
       {
         DrawJitter(kernelStream, range.Count, batch);
       }
-      PlacePoints(range.Count, batch);
+      this->PlacePoints(range.Count, batch);
       consume(range.First, range.Count);
     }
   }
@@ -145,15 +161,17 @@ private:
     }
   }
 
-  /** Continuous index of every point: its voxel centre plus the kernel's offset. */
-  static void
-  PlacePoints(uint64_t count, Batch & batch)
+  /** Continuous index of every point in the whole volume: its voxel centre plus the kernel's offset. */
+  void
+  PlacePoints(uint64_t count, Batch & batch) const
   {
+    const uint32_t firstPlane = m_Window.FirstPlane;
     for (uint64_t s = 0; s < count; ++s)
     {
       batch.X[s] = static_cast<double>(static_cast<int32_t>(batch.I[s])) + TKernel::Offset(batch.JitterX[s]);
       batch.Y[s] = static_cast<double>(static_cast<int32_t>(batch.J[s])) + TKernel::Offset(batch.JitterY[s]);
-      batch.Z[s] = static_cast<double>(static_cast<int32_t>(batch.K[s])) + TKernel::Offset(batch.JitterZ[s]);
+      batch.Z[s] =
+        static_cast<double>(static_cast<int32_t>(batch.K[s] + firstPlane)) + TKernel::Offset(batch.JitterZ[s]);
     }
   }
 
@@ -162,6 +180,7 @@ private:
   const bool                   m_ProvidesJitter;
   const uint64_t               m_Seed;
   const DRRAttenuationVolume * m_SignedResidual;
+  const SlabWindow             m_Window;
 };
 } // namespace DRRRendering
 } // namespace itk

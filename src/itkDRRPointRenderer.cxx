@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkDRRPointRenderer.h"
 #include "itkDRRCompilerBuiltins.h"
+#include "itkDRRDrawAndSplatChunks.h"
 #include "itkDRRPointDrawer.h"
 #include "itkDRRPointSplatter.h"
 #include "itkDRRPolicies.h"
@@ -33,62 +34,6 @@ using namespace DRRRendering;
 
 namespace
 {
-/** A render that draws its points as it goes (nothing kept). */
-template <typename TKernel, typename TSplat>
-class DrawAndSplatChunks : public ChunkWorkBase
-{
-public:
-  DrawAndSplatChunks(const PointDrawer<TKernel> &  drawer,
-                     const PointSplatter<TSplat> & splatter,
-                     const uint8_t *               voxelChannels,
-                     unsigned int                  numberOfChannels)
-    : m_Drawer(drawer), m_Splatter(splatter), m_VoxelChannels(voxelChannels), m_NumberOfChannels(numberOfChannels)
-  {}
-  void
-  Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
-  {
-    this->RunChunk(chunk, strata, worker);
-  }
-
-private:
-  PointBasedDRR_VECTOR_CLONES void
-  RunChunk(uint64_t chunk, const Strata & strata, Worker & worker) const
-  {
-    if (!worker.Scratch)
-    {
-      worker.Scratch.reset(new Batch);
-    }
-    Batch &        batch = *worker.Scratch;
-    const uint32_t channels = m_NumberOfChannels;
-    m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t, uint64_t count) {
-      const uint32_t * slot = batch.Stratum;
-      if (channels > 1)
-      {
-        m_Drawer.VoxelChannels(count, batch, m_VoxelChannels, batch.Splat.Slot);
-        for (uint64_t s = 0; s < count; ++s)
-        {
-          batch.Splat.Slot[s] += batch.Stratum[s] * channels;
-        }
-        slot = batch.Splat.Slot;
-      }
-      m_Splatter.ProjectAndSplat(count,
-                                 batch.X,
-                                 batch.Y,
-                                 batch.Z,
-                                 batch.Weight,
-                                 slot,
-                                 batch.Splat,
-                                 strata.GetNumberOfStrata() * channels,
-                                 worker.Sums);
-    });
-  }
-
-  const PointDrawer<TKernel> &  m_Drawer;
-  const PointSplatter<TSplat> & m_Splatter;
-  const uint8_t *               m_VoxelChannels;
-  const unsigned int            m_NumberOfChannels;
-};
-
 /** Draws points into a cloud (no sums). */
 template <typename TKernel>
 class DrawChunksIntoCloud : public ChunkWorkBase

@@ -86,6 +86,16 @@ private:
   std::vector<uint64_t> m_First;
 };
 
+/** The part of a render that one slab of a streamed render draws (docs/design.md section 16): the samples [First, End)
+ * of the run, whose voxels' z planes (the slab's own) are shifted by FirstPlane, the slab's first plane in the whole
+ * volume. The default is the whole render. */
+struct SlabWindow
+{
+  uint64_t First{ 0 };
+  uint64_t End{ UINT64_MAX };
+  uint32_t FirstPlane{ 0 };
+};
+
 /** The strata a sampler's points form in a render of settings.NumberOfSamples points. */
 Strata
 MakeStrata(const DRRSamplerTraits & traits, const DRRPointRenderer::Settings & settings);

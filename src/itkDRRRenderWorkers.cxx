@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkDRRRenderWorkers.h"
 
+#include <algorithm>
 #include <limits>
 #include "itkDRRWorkScheduler.h"
 
@@ -66,13 +67,16 @@ RunChunks(const ChunkWorkBase &         work,
           const Strata &                strata,
           DRRPointRenderer::Workspace & workspace,
           MultiThreaderBase *           threader,
-          ProcessObject *               progressFilter)
+          ProcessObject *               progressFilter,
+          std::array<uint64_t, 2>       chunks)
 {
   std::vector<Worker> & workers = workspace.Workers;
+  const uint64_t        end = std::min(chunks[1], strata.GetNumberOfChunks());
+  const uint64_t        first = std::min(chunks[0], end);
   DRRWorkScheduler::Run(
     threader,
-    strata.GetNumberOfChunks(),
-    [&](unsigned int worker, uint64_t chunk) { work.Run(chunk, strata, workers[worker]); },
+    end - first,
+    [&](unsigned int worker, uint64_t chunk) { work.Run(first + chunk, strata, workers[worker]); },
     progressFilter);
 }
 } // namespace DRRRendering

@@ -23,6 +23,7 @@
 #include "itkDRRPointRenderer.h"
 #include "itkDRRRenderPlan.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -113,13 +114,15 @@ PrepareWorkers(DRRPointRenderer::Workspace & workspace,
                size_t                        numberOfPixels,
                MultiThreaderBase *           threader);
 
-/** Runs work over every chunk of the strata's samples, with one worker of the workspace per thread. */
+/** Runs work over the chunks [chunks[0], chunks[1]) of the strata's samples (all of them by default), with one worker
+ * of the workspace per thread. */
 void
 RunChunks(const ChunkWorkBase &         work,
           const Strata &                strata,
           DRRPointRenderer::Workspace & workspace,
           MultiThreaderBase *           threader,
-          ProcessObject *               progressFilter);
+          ProcessObject *               progressFilter,
+          std::array<uint64_t, 2>       chunks = { { 0, UINT64_MAX } });
 } // namespace DRRRendering
 } // namespace itk
 

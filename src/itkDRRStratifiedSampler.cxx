@@ -482,23 +482,27 @@ DRRStratifiedSampler::MakeViewPlan(const DRRAttenuationVolume &,
     return m_WholeVolumePlan ? m_WholeVolumePlan
                              : this->KeepBricks([](const Brick &) { return true; }, SlabPlacement());
   }
-  return this->MakeSlabViewPlan(*projection, kernelReach, pixelReach, SlabPlacement());
+  return this->MakeSlabViewPlan(projection, kernelReach, pixelReach, SlabPlacement());
 }
 
 DRRPointSampler::ViewPlanConstPointer
-DRRStratifiedSampler::MakeSlabViewPlan(const DRRPointProjection & projection,
+DRRStratifiedSampler::MakeSlabViewPlan(const DRRPointProjection * projection,
                                        double                     kernelReach,
                                        double                     pixelReach,
                                        const SlabPlacement &      placement) const
 {
+  if (!projection)
+  {
+    return this->KeepBricks([](const Brick &) { return true; }, placement);
+  }
   // A point of brick b lies in [8 b - 0.5 - reach, 8 b + 7.5 + reach] per axis (continuous index of the whole volume:
   // a slab's planes shifted by its first, clipped to what the kernel can reach of the volume) and counts only if it
   // lands within pixelReach of the detector's pixel centres.
   const double margin = 1e-6; // pixels, for rounding
   const double columnLow = -pixelReach - margin;
-  const double columnHigh = projection.GetNumberOfColumns() - 1.0 + pixelReach + margin;
+  const double columnHigh = projection->GetNumberOfColumns() - 1.0 + pixelReach + margin;
   const double rowLow = -pixelReach - margin;
-  const double rowHigh = projection.GetNumberOfRows() - 1.0 + pixelReach + margin;
+  const double rowHigh = projection->GetNumberOfRows() - 1.0 + pixelReach + margin;
   const double planeShift[3] = { 0.0, 0.0, static_cast<double>(placement.FirstPlane) };
   return this->KeepBricks(
     [&](const Brick & brick) {
@@ -518,8 +522,8 @@ DRRStratifiedSampler::MakeSlabViewPlan(const DRRPointProjection & projection,
                               corner & 2u ? upper[1] : lower[1],
                               corner & 4u ? upper[2] : lower[2] };
         double column, row, depth;
-        projection.ProjectToDetectorPlane(p, column, row, depth);
-        if (projection.IsPerspective() && !(depth > 0.0))
+        projection->ProjectToDetectorPlane(p, column, row, depth);
+        if (projection->IsPerspective() && !(depth > 0.0))
         {
           return true; // a brick that reaches the source plane has no bounded image: keep it
         }

@@ -1,0 +1,91 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkDRRStreamedPointRender_h
+#define itkDRRStreamedPointRender_h
+
+#include "itkDRRCompatibility.h"
+#include "itkDRRPointRenderer.h"
+#include "PointBasedDRRExport.h"
+
+#include <array>
+#include <memory>
+
+namespace itk
+{
+/** \class DRRStreamedPointRender
+ * \brief A point render of a volume read slab by slab: the sums of the whole volume's render, filled one slab at a
+ * time, reduced once (docs/design.md section 16).
+ *
+ * Everything a render fixes before its first point is the whole volume's: the strata and samples of the run, the
+ * fixed-point scales (from the whole volume's box and the view), the projection (the whole volume's grid) and the
+ * masses the estimate is scaled by. Each slab then draws its window of the run's samples (for the stratified
+ * sampler: DRRStratifiedSampler::GetSampleWindow() of its slab plan) into the same integer sums, so the image is
+ * the unstreamed render's, bit for bit, whatever the slabs, and Finish() reduces them as DRRPointRenderer::Render()
+ * does. A sampler of independent points has no windows: streamed, each slab is its own render (see
+ * PointBasedDRRImageFilter::SetNumberOfStreamDivisions()).
+ *
+ * \sa DRRPointRenderer, DRRStratifiedSampler::MakeSlabViewPlan()
+ * \ingroup PointBasedDRR
+ */
+class PointBasedDRR_EXPORT DRRStreamedPointRender
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(DRRStreamedPointRender);
+
+  /** Begins a render of settings (channels are not streamed) over a volume of wholeSize voxels, seen through
+   * projection (built for the whole volume's grid), by a sampler of these traits and maximum weight. totalMass: the
+   * whole volume's attenuation mass, sampledMass the part the view's plans sample (mm^2, volume frame). */
+  DRRStreamedPointRender(const DRRPointRenderer::Settings & settings,
+                         const DRRPointProjection &         projection,
+                         const DRRSamplerTraits &           traits,
+                         double                             maximumWeight,
+                         const std::array<uint64_t, 3> &    wholeSize,
+                         double                             totalMass,
+                         double                             sampledMass,
+                         MultiThreaderBase *                threader);
+  ~DRRStreamedPointRender();
+
+  /** The run whose windows the slabs draw: seed, strata interleaved in it and its size (First and Count 0). */
+  DRRPointSampler::SampleRange
+  GetRun() const;
+
+  /** Draws the samples [window[0], window[1]) of the run from the plan of a sampler initialized on a slab, whose
+   * first z plane is firstPlane of the whole volume, into the sums. signedResidual: the slab's control-variate
+   * residual (its signs), or null. */
+  void
+  AddSlab(const DRRSamplerViewPlan &    plan,
+          const DRRPointSampler &       sampler,
+          const std::array<uint64_t, 2> window,
+          uint64_t                      firstPlane,
+          const DRRAttenuationVolume *  signedResidual);
+
+  /** The samples the slabs have drawn so far. */
+  uint64_t
+  GetNumberOfSamplesDrawn() const;
+
+  /** The render: the sums reduced as DRRPointRenderer::Render() reduces them. */
+  DRRPointRenderer::Result
+  Finish();
+
+private:
+  struct State;
+  std::unique_ptr<State> m_State;
+};
+} // namespace itk
+
+#endif

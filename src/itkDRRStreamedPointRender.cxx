@@ -1,0 +1,170 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkDRRStreamedPointRender.h"
+#include "itkDRRDrawAndSplatChunks.h"
+#include "itkDRRPolicies.h"
+#include "itkDRRRenderPlan.h"
+#include "itkDRRRenderReduction.h"
+#include "itkDRRRenderWorkers.h"
+
+#include <limits>
+
+namespace itk
+{
+using namespace DRRRendering;
+
+struct DRRStreamedPointRender::State
+{
+  State(const DRRPointRenderer::Settings & settings, const DRRPointProjection & projection, const Strata & strata)
+    : Settings(settings), Projection(projection), RunStrata(strata)
+  {}
+  const DRRPointRenderer::Settings Settings;
+  DRRPointProjection               Projection;
+  const Strata                     RunStrata;
+  DRRSamplerTraits                 Traits;
+  FixedPoint                       Scales;
+  DRRPointRenderer::Workspace      Workspace;
+  DRRPointRenderer::Result         Result;
+  MultiThreaderBase *              Threader{ nullptr };
+  uint64_t                         Drawn{ 0 };
+  bool                             Finished{ false };
+};
+
+DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings & settings,
+                                               const DRRPointProjection &         projection,
+                                               const DRRSamplerTraits &           traits,
+                                               double                             maximumWeight,
+                                               const std::array<uint64_t, 3> &    wholeSize,
+                                               double                             totalMass,
+                                               double                             sampledMass,
+                                               MultiThreaderBase *                threader)
+{
+  VerifyNumberOfSamples(settings);
+  if (settings.NumberOfChannels > 1 || settings.VoxelChannels)
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: channels are not streamed");
+  }
+  if (!threader)
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: no threader");
+  }
+  m_State = std::make_unique<State>(settings, projection, MakeStrata(traits, settings));
+  State & state = *m_State;
+  state.Traits = traits;
+  state.Threader = threader;
+  state.Result = ZeroResult(projection);
+  state.Result.RoomMass = totalMass * projection.GetRoomMassScale();
+  state.Result.SampledRoomMass = sampledMass * projection.GetRoomMassScale();
+  // The box the kernel's points reach in the whole volume (DRRPointRenderer::ComputeKernelSupport()).
+  const double          reach = KernelReach(settings.Kernel);
+  std::array<double, 3> lower, upper;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    lower[a] = -reach;
+    upper[a] = static_cast<double>(wholeSize[a]) - 1.0 + reach;
+  }
+  state.Scales = PlanFixedPoint(static_cast<double>(state.RunStrata.GetNumberOfSamples()),
+                                maximumWeight,
+                                lower,
+                                upper,
+                                settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased,
+                                state.Projection,
+                                state.Result);
+  PrepareWorkers(state.Workspace, state.RunStrata, 1, state.Result.LineIntegral.size(), threader);
+}
+
+DRRStreamedPointRender::~DRRStreamedPointRender() = default;
+
+DRRPointSampler::SampleRange
+DRRStreamedPointRender::GetRun() const
+{
+  const Strata &               strata = m_State->RunStrata;
+  DRRPointSampler::SampleRange run;
+  run.Seed = m_State->Settings.Seed;
+  run.Stratum = 0;
+  run.StratumFirst = 0;
+  run.StratumSize = strata.IsInterleaved() ? strata.GetNumberOfSamples() : strata.RunSize(0);
+  run.NumberOfStrata = strata.IsInterleaved() ? strata.GetNumberOfStrata() : 1;
+  return run;
+}
+
+void
+DRRStreamedPointRender::AddSlab(const DRRSamplerViewPlan &    plan,
+                                const DRRPointSampler &       sampler,
+                                const std::array<uint64_t, 2> window,
+                                uint64_t                      firstPlane,
+                                const DRRAttenuationVolume *  signedResidual)
+{
+  State & state = *m_State;
+  if (state.Finished)
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: AddSlab() after Finish()");
+  }
+  if (!state.RunStrata.IsInterleaved() && state.RunStrata.GetNumberOfStrata() > 1)
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: a slab's window is a stretch of one run; the strata of "
+                             << sampler.GetNameOfClass() << " are runs of their own");
+  }
+  if (firstPlane > std::numeric_limits<uint32_t>::max() || window[0] > window[1] ||
+      window[1] > state.RunStrata.GetNumberOfSamples())
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: samples [" << window[0] << ", " << window[1] << ") or plane "
+                                                                 << firstPlane << " lie outside the render");
+  }
+  if (window[0] == window[1])
+  {
+    return; // nothing of the view in this slab
+  }
+  const SlabWindow                   slab{ window[0], window[1], static_cast<uint32_t>(firstPlane) };
+  const DRRPointRenderer::Settings & settings = state.Settings;
+  DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
+    return DRRPolicies::Splats::Visit(settings.Splat, [&](auto splat) {
+      const PointDrawer<decltype(kernel)>  drawer(sampler, plan, state.Traits, settings.Seed, signedResidual, slab);
+      const PointSplatter<decltype(splat)> splatter(
+        state.Projection, state.Scales, settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased);
+      const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(drawer, splatter, nullptr, 1);
+      RunChunks(work, state.RunStrata, state.Workspace, state.Threader, nullptr, drawer.GetChunks(state.RunStrata));
+      return 0;
+    });
+  });
+  state.Drawn += window[1] - window[0];
+}
+
+uint64_t
+DRRStreamedPointRender::GetNumberOfSamplesDrawn() const
+{
+  return m_State->Drawn;
+}
+
+DRRPointRenderer::Result
+DRRStreamedPointRender::Finish()
+{
+  State & state = *m_State;
+  if (state.Finished)
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: Finish() twice");
+  }
+  state.Finished = true;
+  if (state.Result.SampledRoomMass > 0.0)
+  {
+    Reduce(
+      state.Workspace, state.RunStrata, 1, state.Scales, state.Projection.GetPixelArea(), state.Threader, state.Result);
+  }
+  return std::move(state.Result);
+}
+} // namespace itk
