@@ -151,6 +151,13 @@ public:
                const DRRPointProjection &   projection,
                uint64_t                     samples = DRRPointRenderer::DefaultNumberOfSamples,
                uint64_t                     poses = 1);
+  /** The same, for a volume of size voxels of voxelVolume mm^3 known by its grid alone (a streamed render's). */
+  static unsigned int
+  ChooseFactor(const DRRAttenuationVolume::SizeType & size,
+               double                                 voxelVolume,
+               const DRRPointProjection &             projection,
+               uint64_t                               samples = DRRPointRenderer::DefaultNumberOfSamples,
+               uint64_t                               poses = 1);
 
   /** What `auto` predicts a render with points kept for several poses to cost, measured on a 2-core Xeon
    * (benchmark/auto_choice.sh; only the ratio of the coarse image's cost to the points' decides). */

@@ -20,6 +20,7 @@
 
 #include "itkDRRCompatibility.h"
 #include "itkDRRPointRenderer.h"
+#include "itkDRRStratifiedSampler.h"
 #include "PointBasedDRRExport.h"
 
 #include <array>
@@ -48,17 +49,22 @@ public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRStreamedPointRender);
 
   /** Begins a render of settings (channels are not streamed) over a volume of wholeSize voxels, seen through
-   * projection (built for the whole volume's grid), by a sampler of these traits and maximum weight. totalMass: the
-   * whole volume's attenuation mass, sampledMass the part the view's plans sample (mm^2, volume frame). */
+   * projection (built for the whole volume's grid), by a sampler of these traits and maximum weight. */
   DRRStreamedPointRender(const DRRPointRenderer::Settings & settings,
                          const DRRPointProjection &         projection,
                          const DRRSamplerTraits &           traits,
                          double                             maximumWeight,
                          const std::array<uint64_t, 3> &    wholeSize,
-                         double                             totalMass,
-                         double                             sampledMass,
                          MultiThreaderBase *                threader);
   ~DRRStreamedPointRender();
+
+  /** The plan of a slab (DRRStratifiedSampler::MakeSlabViewPlan()) culled to the view of projection (the whole
+   * volume's) with the reaches of the settings' kernel and splat. */
+  static DRRPointSampler::ViewPlanConstPointer
+  MakeSlabPlan(const DRRStratifiedSampler &                sampler,
+               const DRRPointProjection &                  projection,
+               const DRRPointRenderer::Settings &          settings,
+               const DRRStratifiedSampler::SlabPlacement & placement);
 
   /** The run whose windows the slabs draw: seed, strata interleaved in it and its size (First and Count 0). */
   DRRPointSampler::SampleRange
@@ -78,9 +84,10 @@ public:
   uint64_t
   GetNumberOfSamplesDrawn() const;
 
-  /** The render: the sums reduced as DRRPointRenderer::Render() reduces them. */
+  /** The render: the sums reduced as DRRPointRenderer::Render() reduces them, scaled by the whole volume's
+   * attenuation mass totalMass and the part the slabs' plans sampled, sampledMass (mm^2, volume frame). */
   DRRPointRenderer::Result
-  Finish();
+  Finish(double totalMass, double sampledMass);
 
 private:
   struct State;

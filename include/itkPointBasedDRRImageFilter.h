@@ -24,6 +24,8 @@
 #include "itkDRRPassCombination.h"
 #include "itkDRRPointSampler.h"
 #include "itkDRRPointRenderer.h"
+#include "itkDRRStratifiedSampler.h"
+#include "itkDRRStreamedPointRender.h"
 
 namespace itk
 {
@@ -101,6 +103,10 @@ public:
   }
   itkGetConstMacro(Seed, uint64_t);
   ///@}
+
+  /** The smallest F `auto` picks for a streamed render: its coarse volume is held whole (4 / F^3 bytes per voxel, 1/32
+   * of 16-bit CT at F = 4). */
+  static constexpr unsigned int MinimumStreamedAutomaticFactor = 4;
 
   ///@{
   /** Voxel model: Box (default, reference Siddon) or Tent (trilinear). */
@@ -315,9 +321,24 @@ protected:
   /** Adds the control variate's coarse image for the current pose to a render of the residual (no-op without one). */
   void
   AddControlVariateImage(const DRRPointRenderer::Settings & settings, DRRPointRenderer::Result & result);
-  /** The base's checks (the input is set), then VerifySettings() with the number of samples of the coming pass. */
+  /** The base's checks (the input is set), then VerifySettings() with the number of samples of the coming pass, and
+   * streaming's: the stratified sampler, points not kept. */
   void
   VerifyPreconditions() const override;
+
+  /** Streamed slabs start at whole brick planes (8, the stratified sampler's bricks) and whole coarse blocks of the
+   * control variate (F planes). */
+  uint64_t
+  GetSlabAlignment() const override;
+  /** F of a streamed render: ControlVariateFactor, or for AutomaticControlVariateFactor the view's choice, at least
+   * MinimumStreamedAutomaticFactor (see docs/design.md section 16). */
+  unsigned int
+  ResolveStreamedControlVariateFactor() const;
+  /** One pass of a render streamed by slabs (docs/design.md section 16): a first pass over the slabs gathers the
+   * masses along the sampler's curve (and the coarse volume), a second draws each slab's window of the samples into
+   * the whole render's sums. The same image, bit for bit, as the render of the whole volume. */
+  DRRPointRenderer::Result
+  RenderStreamed(const DRRPointRenderer::Settings & settings);
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 

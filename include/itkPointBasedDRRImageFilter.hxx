@@ -163,6 +163,196 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   this->VerifySettings(m_RefinementSamples > 0 ? m_RefinementSamples : m_NumberOfSamples);
+  if (this->GetNumberOfStreamDivisions() <= 1)
+  {
+    return;
+  }
+  if (!dynamic_cast<const DRRStratifiedSampler *>(m_Sampler.GetPointer()))
+  {
+    itkExceptionMacro("streaming shares the points out between the slabs along the stratified sampler's curve (the "
+                      "unstreamed render's points); "
+                      << m_Sampler->GetNameOfClass()
+                      << " draws its voxels from tables of the whole volume: use the stratified sampler");
+  }
+  if (m_ReusePoints)
+  {
+    itkExceptionMacro(
+      "streaming draws the points slab by slab: kept points (ReusePoints) would hold the whole volume's");
+  }
+}
+
+template <typename TInputImage, typename TOutputImage>
+unsigned int
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveStreamedControlVariateFactor() const
+{
+  if (m_ControlVariateFactor != AutomaticControlVariateFactor)
+  {
+    return m_ControlVariateFactor;
+  }
+  const TInputImage * input = this->GetInput();
+  if (!input)
+  {
+    return 0;
+  }
+  const auto                     grid = this->MakeInputGrid();
+  const auto                     size = input->GetLargestPossibleRegion().GetSize();
+  DRRAttenuationVolume::SizeType wholeSize{ { size[0], size[1], size[2] } };
+  const unsigned int             factor =
+    DRRControlVariate::ChooseFactor(wholeSize, grid->GetVoxelVolume(), this->MakeProjection(*grid), m_NumberOfSamples);
+  return std::max(factor, MinimumStreamedAutomaticFactor);
+}
+
+template <typename TInputImage, typename TOutputImage>
+uint64_t
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSlabAlignment() const
+{
+  // Whole brick planes, and whole coarse blocks: lcm(8, F).
+  const uint64_t factor = this->ResolveStreamedControlVariateFactor();
+  uint64_t       alignment = 8;
+  while (factor > 0 && alignment % factor != 0)
+  {
+    alignment += 8;
+  }
+  return alignment;
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPointRenderer::Result
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPointRenderer::Settings & settings)
+{
+  using Placement = DRRStratifiedSampler::SlabPlacement;
+  if (!dynamic_cast<const DRRStratifiedSampler *>(m_Sampler.GetPointer()))
+  {
+    itkExceptionMacro("streaming needs the stratified sampler");
+  }
+  // A sampler of the slabs' own: the filter's keeps its tables of the whole volume (if any) for unstreamed renders.
+  const auto                    sampler = DRRStratifiedSampler::New();
+  MultiThreaderBase *           threader = this->GetMultiThreader();
+  const unsigned int            slabs = this->GetNumberOfSlabs();
+  const auto                    grid = this->MakeInputGrid();
+  const DRRPointProjection      projection = this->MakeProjection(*grid);
+  const auto                    size = this->GetInput()->GetLargestPossibleRegion().GetSize();
+  const std::array<uint64_t, 3> wholeSize{ { size[0], size[1], size[2] } };
+  unsigned int                  factor = this->ResolveStreamedControlVariateFactor();
+  const auto                    firstPlaneOf = [&](unsigned int slab) {
+    return static_cast<uint64_t>(this->GetSlabRegion(slab).GetIndex()[2] -
+                                 this->GetInput()->GetLargestPossibleRegion().GetIndex()[2]);
+  };
+  const auto checkAbort = [&]() {
+    if (this->GetAbortGenerateData())
+    {
+      ProcessAborted aborted(__FILE__, __LINE__);
+      aborted.SetDescription("the streamed render was aborted between slabs");
+      throw aborted;
+    }
+  };
+  // A slab's model, its control variate (its own residual; its coarse planes are the whole one's) and the sampler's
+  // tables of what it samples.
+  DRRAttenuationVolume::Pointer slabVolume;
+  DRRControlVariate::Pointer    slabControlVariate;
+  const auto                    prepareSlab = [&](unsigned int slab) {
+    slabControlVariate = nullptr;
+    slabVolume = nullptr; // the last slab's model goes before this one's is read
+    slabVolume = this->ReadSlab(slab);
+    if (factor != 0)
+    {
+      slabControlVariate = DRRControlVariate::New();
+      slabControlVariate->Build(*slabVolume, factor, threader);
+    }
+    sampler->Initialize(slabControlVariate ? slabControlVariate->GetResidualVolume() : *slabVolume);
+  };
+
+  // First pass: the view's mass along the curve before each slab, the whole volume's mass and the coarse volume.
+  std::vector<double>        massBefore(slabs, 0.0);
+  double                     viewMass = 0.0;
+  uint64_t                   viewVoxels = 0;
+  double                     sampledTotal = 0.0; // the mass the sampler draws from (the residual's with F), 1/mm
+  unsigned int               lastSlabInView = 0;
+  DRRControlVariate::Pointer controlVariate;
+  for (bool declined = true; declined;)
+  {
+    declined = false;
+    viewMass = 0.0;
+    viewVoxels = 0;
+    sampledTotal = 0.0;
+    controlVariate = nullptr;
+    if (factor != 0)
+    {
+      controlVariate = DRRControlVariate::New();
+      controlVariate->BeginSlabs(
+        { { wholeSize[0], wholeSize[1], wholeSize[2] } }, grid->GetIndexToPhysicalMatrix(), grid->GetOrigin(), factor);
+    }
+    for (unsigned int slab = 0; slab < slabs; ++slab)
+    {
+      checkAbort();
+      prepareSlab(slab);
+      Placement placement;
+      placement.FirstPlane = firstPlaneOf(slab);
+      placement.MassBefore = viewMass;
+      massBefore[slab] = viewMass;
+      const auto plan = DRRStreamedPointRender::MakeSlabPlan(*sampler, projection, settings, placement);
+      viewMass = DRRStratifiedSampler::GetMassAtEnd(*plan);
+      viewVoxels += DRRStratifiedSampler::GetNumberOfVoxelsInPlan(*plan);
+      lastSlabInView = DRRStratifiedSampler::GetNumberOfVoxelsInPlan(*plan) > 0 ? slab : lastSlabInView;
+      placement.MassBefore = sampledTotal;
+      sampledTotal = DRRStratifiedSampler::GetMassAtEnd(*sampler->MakeSlabViewPlan(nullptr, 0.0, 0.0, placement));
+      if (controlVariate)
+      {
+        controlVariate->AddSlab(*slabControlVariate, placement.FirstPlane);
+      }
+      this->UpdateProgress(0.5f * static_cast<float>(slab + 1) / static_cast<float>(slabs));
+    }
+    if (controlVariate && m_ControlVariateFactor == AutomaticControlVariateFactor &&
+        sampledTotal * grid->GetVoxelVolume() > MaximumAutomaticResidualFraction * controlVariate->GetTotalMass())
+    {
+      // `auto` declines as the unstreamed render does (PrepareSampling()): the pass again, without.
+      itkDebugMacro("streamed control variate F " << factor << " declined");
+      factor = 0;
+      declined = true;
+    }
+  }
+
+  // Second pass: every slab draws its window of the run's samples into the whole render's sums.
+  DRRStreamedPointRender render(
+    settings, projection, sampler->GetTraits(), sampler->GetMaximumWeight(), wholeSize, threader);
+  for (unsigned int slab = 0; slab < slabs; ++slab)
+  {
+    checkAbort();
+    Placement placement;
+    placement.FirstPlane = firstPlaneOf(slab);
+    placement.MassBefore = massBefore[slab];
+    placement.ViewMass = viewMass;
+    placement.ViewVoxels = viewVoxels;
+    placement.LastSlab = slab == lastSlabInView;
+    if (slab <= lastSlabInView && viewVoxels > 0)
+    {
+      prepareSlab(slab);
+      const auto plan = DRRStreamedPointRender::MakeSlabPlan(*sampler, projection, settings, placement);
+      render.AddSlab(*plan,
+                     *sampler,
+                     DRRStratifiedSampler::GetSampleWindow(*plan, render.GetRun()),
+                     placement.FirstPlane,
+                     slabControlVariate ? &slabControlVariate->GetResidualVolume() : nullptr);
+    }
+    this->UpdateProgress(0.5f + 0.5f * static_cast<float>(slab + 1) / static_cast<float>(slabs));
+  }
+  slabControlVariate = nullptr;
+  slabVolume = nullptr;
+  DRRPointRenderer::Result result =
+    render.Finish(sampledTotal * grid->GetVoxelVolume(), viewMass * grid->GetVoxelVolume());
+  if (controlVariate)
+  {
+    controlVariate->EndSlabs(threader);
+    controlVariate->AddCoarseImage(projection,
+                                   settings.Splat,
+                                   m_ControlVariateRaysPerSide,
+                                   settings.Seed,
+                                   threader,
+                                   this,
+                                   result,
+                                   m_ComputeStandardError ? 2u : 1u);
+  }
+  return result;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -248,7 +438,11 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   const DRRPointRenderer::Settings settings = this->MakeSettings(samples, pass);
   this->UpdateProgress(0.0f);
   DRRPointRenderer::Result result;
-  if (m_ReusePoints && pass == 0)
+  if (this->GetNumberOfSlabs() > 1)
+  {
+    result = this->RenderStreamed(settings);
+  }
+  else if (m_ReusePoints && pass == 0)
   {
     result = this->RenderKeptPoints(settings);
   }

@@ -271,18 +271,28 @@ DRRControlVariate::ChooseFactor(const DRRAttenuationVolume & volume,
                                 uint64_t                     samples,
                                 uint64_t                     poses)
 {
+  return ChooseFactor(volume.GetSize(), volume.GetVoxelVolume(), projection, samples, poses);
+}
+
+unsigned int
+DRRControlVariate::ChooseFactor(const DRRAttenuationVolume::SizeType & size,
+                                double                                 voxelVolume,
+                                const DRRPointProjection &             projection,
+                                uint64_t                               samples,
+                                uint64_t                               poses)
+{
   double centre[3];
   for (unsigned int a = 0; a < 3; ++a)
   {
-    centre[a] = 0.5 * (static_cast<double>(volume.GetSize()[a]) - 1.0);
+    centre[a] = 0.5 * (static_cast<double>(size[a]) - 1.0);
   }
   double column, row, depth;
   projection.ProjectToDetectorPlane(centre, column, row, depth);
   const double pixelPitch = std::sqrt(projection.GetPixelArea()); // mm on the detector
   const double footprint = projection.IsPerspective() && depth > 0.0
                              ? pixelPitch * depth / projection.GetSourceToDetectorDistance()
-                             : pixelPitch;                     // mm at the volume's centre
-  const double voxelSize = std::cbrt(volume.GetVoxelVolume()); // mm
+                             : pixelPitch;         // mm at the volume's centre
+  const double voxelSize = std::cbrt(voxelVolume); // mm
   unsigned int factor = 2;
   while (factor < 8 && 2.0 * factor * voxelSize <= footprint)
   {
@@ -295,7 +305,8 @@ DRRControlVariate::ChooseFactor(const DRRAttenuationVolume & volume,
   // Kept points: the coarse image at every pose against the extra points a larger F needs for the same error.
   using Model = AutomaticCostModel;
   const double pixels = static_cast<double>(projection.GetNumberOfColumns()) * projection.GetNumberOfRows();
-  const double across = std::cbrt(static_cast<double>(volume.GetNumberOfVoxels())); // voxels along a ray, roughly
+  const double across = std::cbrt(static_cast<double>(size[0]) * static_cast<double>(size[1]) *
+                                  static_cast<double>(size[2])); // voxels along a ray, roughly
   const double perPoint = Model::PointNanoseconds + static_cast<double>(poses - 1) * Model::KeptPointNanoseconds;
   const auto   predicted = [&](unsigned int F) {
     const double coarseImage = static_cast<double>(poses) * pixels *

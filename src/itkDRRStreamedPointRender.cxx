@@ -50,8 +50,6 @@ DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings 
                                                const DRRSamplerTraits &           traits,
                                                double                             maximumWeight,
                                                const std::array<uint64_t, 3> &    wholeSize,
-                                               double                             totalMass,
-                                               double                             sampledMass,
                                                MultiThreaderBase *                threader)
 {
   VerifyNumberOfSamples(settings);
@@ -68,8 +66,6 @@ DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings 
   state.Traits = traits;
   state.Threader = threader;
   state.Result = ZeroResult(projection);
-  state.Result.RoomMass = totalMass * projection.GetRoomMassScale();
-  state.Result.SampledRoomMass = sampledMass * projection.GetRoomMassScale();
   // The box the kernel's points reach in the whole volume (DRRPointRenderer::ComputeKernelSupport()).
   const double          reach = KernelReach(settings.Kernel);
   std::array<double, 3> lower, upper;
@@ -89,6 +85,15 @@ DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings 
 }
 
 DRRStreamedPointRender::~DRRStreamedPointRender() = default;
+
+DRRPointSampler::ViewPlanConstPointer
+DRRStreamedPointRender::MakeSlabPlan(const DRRStratifiedSampler &                sampler,
+                                     const DRRPointProjection &                  projection,
+                                     const DRRPointRenderer::Settings &          settings,
+                                     const DRRStratifiedSampler::SlabPlacement & placement)
+{
+  return sampler.MakeSlabViewPlan(&projection, KernelReach(settings.Kernel), SplatReach(settings.Splat), placement);
+}
 
 DRRPointSampler::SampleRange
 DRRStreamedPointRender::GetRun() const
@@ -152,7 +157,7 @@ DRRStreamedPointRender::GetNumberOfSamplesDrawn() const
 }
 
 DRRPointRenderer::Result
-DRRStreamedPointRender::Finish()
+DRRStreamedPointRender::Finish(double totalMass, double sampledMass)
 {
   State & state = *m_State;
   if (state.Finished)
@@ -160,7 +165,16 @@ DRRStreamedPointRender::Finish()
     itkGenericExceptionMacro("DRRStreamedPointRender: Finish() twice");
   }
   state.Finished = true;
-  if (state.Result.SampledRoomMass > 0.0)
+  state.Result.RoomMass = totalMass * state.Projection.GetRoomMassScale();
+  state.Result.SampledRoomMass = sampledMass * state.Projection.GetRoomMassScale();
+  if (!(state.Result.SampledRoomMass > 0.0))
+  {
+    // All air, or nothing in view: the exact answer is a zero image (as DRRPointRenderer::Render() returns it).
+    DRRPointRenderer::Result zero = ZeroResult(state.Projection);
+    zero.RoomMass = state.Result.RoomMass;
+    zero.SampledRoomMass = state.Result.SampledRoomMass;
+    return zero;
+  }
   {
     Reduce(
       state.Workspace, state.RunStrata, 1, state.Scales, state.Projection.GetPixelArea(), state.Threader, state.Result);

@@ -33,6 +33,7 @@
 #include "itkDRRTentKernel.h"
 #include "itkCommand.h"
 #include "itkImageRegionIterator.h"
+#include "itkImageRegionIteratorWithIndex.h"
 #include "itkImageSource.h"
 #include "PointBasedDRRTestHelpers.h"
 
@@ -1451,6 +1452,135 @@ TEST(ExactDRRImageFilter, StreamedSlabsOfThePipelineSumToTheWholeVolumesProjecti
   tent->SetNumberOfStreamDivisions(2);
   tent->SetReconstructionKernel(KernelEnum::Tent);
   EXPECT_TRUE(Contains(ExceptionMessage([&] { tent->Update(); }, "streamed tent"), "needs the box kernel"));
+}
+
+/** A CT-like volume several brick planes deep (19 x 17 x 45 voxels, rotated, anisotropic): an ellipsoid of random HU
+ * levels in air, so that some bricks are empty and a collimated view culls others. */
+HUVolumeType::Pointer
+MakeDeepPhantom()
+{
+  HUVolumeType::SizeType    size = { { 19, 17, 45 } };
+  HUVolumeType::SpacingType spacing;
+  spacing[0] = 1.0;
+  spacing[1] = 1.2;
+  spacing[2] = 0.8;
+  HUVolumeType::PointType origin;
+  origin[0] = -9.0;
+  origin[1] = -11.0;
+  origin[2] = -17.0;
+  itk::Vector<double, 3> axis;
+  axis[0] = 2.0 / 3.0;
+  axis[1] = 1.0 / 3.0;
+  axis[2] = 2.0 / 3.0;
+  auto         volume = MakeVolume<HUVolumeType>(size, spacing, origin, RotationMatrix(axis, 20.0));
+  const short  levels[6] = { -900, -300, 0, 60, 700, 1800 };
+  unsigned int state = 2024u;
+  for (itk::ImageRegionIteratorWithIndex<HUVolumeType> it(volume, volume->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    const auto   index = it.GetIndex();
+    const double x = (index[0] - 9.0) / 8.5, y = (index[1] - 8.0) / 7.5, z = (index[2] - 22.0) / 20.0;
+    state = state * 1664525u + 1013904223u;
+    it.Set(x * x + y * y + z * z <= 1.0 ? levels[(state >> 8) % 6] : static_cast<short>(-1000));
+  }
+  return volume;
+}
+
+// Streaming (issue 30): the point-based filter reads the volume from its pipeline slab by slab and draws each slab's
+// share of the stratified sampler's points, the same points as the whole volume's render: the same image and standard
+// error, bit for bit, for any number of slabs, with and without the control variate, dense and sparse walks, a full and
+// a collimated (culled) view, from a streaming source or an image in memory.
+TEST(PointBasedDRRImageFilter, StreamedSlabsDrawTheWholeVolumesPointsBitForBit)
+{
+  using PointType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  const auto volume = MakeDeepPhantom();
+  const auto planes = volume->GetLargestPossibleRegion().GetSize()[2];
+  for (const auto projection : { ProjectionEnum::Perspective, ProjectionEnum::Parallel })
+  {
+    for (const bool collimated : { false, true })
+    {
+      auto geometry = MakeGeometry(projection, collimated ? 9 : 34, collimated ? 7 : 30, 1.3, 1.1);
+      geometry->SetSourceToIsocenterDistance(300.0);
+      geometry->SetSourceToDetectorDistance(500.0);
+      for (const unsigned int factor : { 0u, 2u, 16u, PointType::AutomaticControlVariateFactor })
+      {
+        for (const uint64_t samples : { uint64_t{ 3000 }, uint64_t{ 400000 } })
+        {
+          const auto render = [&](const HUVolumeType * input, unsigned int slabs) {
+            auto drr = PointType::New();
+            drr->SetInput(input);
+            drr->SetGeometry(geometry);
+            drr->SetNumberOfSamples(samples);
+            drr->SetSeed(11);
+            drr->SetControlVariateFactor(factor);
+            drr->SetNumberOfStreamDivisions(slabs);
+            drr->Update();
+            return std::make_pair(ToVector(drr->GetOutput()), ToVector(drr->GetStandardErrorOutput()));
+          };
+          const auto whole = render(volume, 1);
+          ASSERT_GT(*std::max_element(whole.first.begin(), whole.first.end()), 0.1);
+          for (const unsigned int slabs : { 2u, 3u, 6u })
+          {
+            auto source = RegionRecordingSource::New();
+            source->Volume = volume;
+            const std::string what = "F " + std::to_string(factor) + ", " + std::to_string(samples) + " samples, " +
+                                     std::to_string(slabs) + " slabs" + (collimated ? ", collimated" : "");
+            for (const auto & streamed : { render(source->GetOutput(), slabs), render(volume, slabs) })
+            {
+              ASSERT_EQ(streamed.first.size(), whole.first.size());
+              for (size_t p = 0; p < whole.first.size(); ++p)
+              {
+                ASSERT_EQ(streamed.first[p], whole.first[p]) << projection << ", " << what << ", pixel " << p;
+                ASSERT_EQ(streamed.second[p], whole.second[p]) << projection << ", " << what << ", pixel " << p;
+              }
+            }
+            // Passes over consecutive slabs of whole brick planes (and coarse blocks): the first over every plane
+            // (the masses along the curve), the last over the slabs in view (an `auto` control variate declined
+            // makes one more first pass).
+            std::ostringstream requests;
+            for (const auto & request : source->Requests)
+            {
+              requests << request.GetIndex()[2] << "+" << request.GetSize()[2] << " ";
+            }
+            const size_t        alignment = factor == 16 ? 16 : 8;
+            const size_t        slabsMade = std::min<size_t>(slabs, (planes + alignment - 1) / alignment);
+            itk::IndexValueType next = 0;
+            for (const auto & request : source->Requests)
+            {
+              const itk::IndexValueType first = request.GetIndex()[2];
+              EXPECT_EQ(first % static_cast<itk::IndexValueType>(alignment), 0) << what << ": " << requests.str();
+              EXPECT_TRUE(first == next || first == 0) << what << ": " << requests.str();
+              next = first + static_cast<itk::IndexValueType>(request.GetSize()[2]);
+            }
+            ASSERT_GE(source->Requests.size(), slabsMade + 1) << what << ": " << requests.str();
+            const auto & lastOfFirstPass = source->Requests[slabsMade - 1];
+            EXPECT_EQ(lastOfFirstPass.GetIndex()[2] + static_cast<itk::IndexValueType>(lastOfFirstPass.GetSize()[2]),
+                      static_cast<itk::IndexValueType>(planes))
+              << what << ": " << requests.str();
+          }
+        }
+      }
+    }
+  }
+}
+
+// What streaming cannot share out is refused by name: samplers that draw from tables of the whole volume, and kept
+// points.
+TEST(PointBasedDRRImageFilter, StreamingRefusesWhatItCannotShareOut)
+{
+  using PointType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+  const auto volume = MakeDeepPhantom();
+  auto       drr = PointType::New();
+  drr->SetInput(volume);
+  drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 9, 7, 1.0, 1.0));
+  drr->SetNumberOfStreamDivisions(2);
+  drr->SetSampler(itk::DRRSamplerFactory::Create("level-alias"));
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "level-alias"), "use the stratified sampler"));
+  drr->SetSampler(itk::DRRSamplerFactory::Create("stratified"));
+  drr->SetReusePoints(true);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "kept points"), "kept points"));
+  drr->SetReusePoints(false);
+  EXPECT_NO_THROW(drr->Update());
 }
 
 } // namespace
