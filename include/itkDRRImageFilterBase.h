@@ -23,6 +23,7 @@
 #include "itkTransform.h"
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRImageToAttenuationVolumeFilter.h"
+#include "itkDRRMemoryBudget.h"
 #include "itkDRRLabelSelection.h"
 #include "itkVectorImage.h"
 #include "itkDRRPointProjection.h"
@@ -253,6 +254,32 @@ public:
   itkGetConstMacro(NumberOfStreamDivisions, unsigned int);
   ///@}
 
+  ///@{
+  /** Memory budget, bytes: a volume whose unstreamed render would hold more (GetBytesPerVoxel() per voxel) is
+   * streamed in as many slabs as bring each within it, NumberOfStreamDivisions at least. Default:
+   * half the machine's physical memory (DRRMemoryBudget); 0: no budget (streamed only when asked). */
+  itkSetMacro(MemoryBudget, uint64_t);
+  itkGetConstMacro(MemoryBudget, uint64_t);
+  ///@}
+
+  /** Slabs the volume is streamed in: NumberOfStreamDivisions, or more for the memory budget (if the settings can be
+   * streamed), at most one per block of GetSlabAlignment() planes; 1: not streamed. Needs the input's information
+   * (its largest region). */
+  unsigned int
+  GetNumberOfSlabs() const;
+
+  /** While streaming, the slab being read, 1 to GetNumberOfSlabs() (for progress: a render may pass over the slabs
+   * more than once); 0 otherwise. */
+  itkGetConstMacro(CurrentSlab, unsigned int);
+
+  /** Bytes per voxel an unstreamed render holds: the input pixel and, as measured on the chest x2 and x4
+   * (docs/performance.md), the filter's tables. */
+  virtual double
+  GetBytesPerVoxel() const
+  {
+    return sizeof(InputPixelType);
+  }
+
   /** The attenuation model rendered: the shared one, or the output of the filter's own stage, brought up to date now
    * (ITK's pipeline: built only if its inputs or settings changed). */
   const DRRAttenuationVolume *
@@ -286,6 +313,12 @@ protected:
   void
   VerifyPreconditions() const override;
 
+  /** Why the filter's settings cannot be streamed, empty if they can: a budget streams only what can be, and
+   * NumberOfStreamDivisions > 1 with settings that cannot is refused with this reason. The base's: an input volume
+   * (not a shared model) without labels or channels. */
+  virtual std::string
+  WhyNotStreamable() const;
+
   /** Planes a slab of a streamed render starts at a multiple of (1: any plane; the point-based filter's bricks and
    * coarse blocks need more). */
   virtual uint64_t
@@ -293,10 +326,6 @@ protected:
   {
     return 1;
   }
-  /** Slabs the volume is streamed in: NumberOfStreamDivisions, at most one per block of GetSlabAlignment() planes
-   * (1: not streamed). */
-  unsigned int
-  GetNumberOfSlabs() const;
   /** Slab number `slab` of the input's largest region: whole z planes, the blocks of planes shared out evenly. */
   typename InputImageType::RegionType
   GetSlabRegion(unsigned int slab) const;
@@ -358,6 +387,8 @@ private:
   double                                        m_WindowLevel{ 0.0 };
   double                                        m_WindowWidth{ 0.0 };
   unsigned int                                  m_NumberOfStreamDivisions{ 1 };
+  uint64_t                                      m_MemoryBudget{ DRRMemoryBudget::GetDefaultBudgetInBytes() };
+  unsigned int                                  m_CurrentSlab{ 0 };
   typename AttenuationVolumeFilterType::Pointer m_AttenuationVolumeFilter; // the filter's own preprocessing stage
 };
 } // namespace itk

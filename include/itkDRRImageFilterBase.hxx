@@ -100,13 +100,10 @@ DRRImageFilterBase<TInputImage, TOutputImage>::VerifyPreconditions() const
   }
   if (m_NumberOfStreamDivisions > 1)
   {
-    if (!this->GetInput())
+    const std::string why = this->WhyNotStreamable();
+    if (!why.empty())
     {
-      itkExceptionMacro("streaming reads the input volume slab by slab: a shared attenuation volume is already whole");
-    }
-    if (this->GetLabelImage() || this->GetLabelChannels() || this->GetMaterialChannels())
-    {
-      itkExceptionMacro("streaming renders without labels or channels (a slab's labels would be resampled apart)");
+      itkExceptionMacro("" << why);
     }
   }
   if (!this->GetSharedAttenuationVolume())
@@ -290,14 +287,40 @@ unsigned int
 DRRImageFilterBase<TInputImage, TOutputImage>::GetNumberOfSlabs() const
 {
   const InputImageType * input = this->GetInput();
-  if (!input || m_NumberOfStreamDivisions <= 1)
+  if (!input)
   {
     return 1;
   }
-  const uint64_t planes = input->GetLargestPossibleRegion().GetSize()[2];
+  const auto largest = input->GetLargestPossibleRegion();
+  // The budget streams what can be streamed; the rest is rendered whole, as before there was a budget.
+  const unsigned int forBudget =
+    this->WhyNotStreamable().empty()
+      ? DRRMemoryBudget::ComputeNumberOfSlabs(largest.GetNumberOfPixels(), this->GetBytesPerVoxel(), m_MemoryBudget)
+      : 1;
+  const unsigned int wanted = std::max(m_NumberOfStreamDivisions, forBudget);
+  if (wanted <= 1)
+  {
+    return 1;
+  }
+  const uint64_t planes = largest.GetSize()[2];
   const uint64_t alignment = std::max<uint64_t>(this->GetSlabAlignment(), 1);
   const uint64_t blocks = std::max<uint64_t>((planes + alignment - 1) / alignment, 1);
-  return static_cast<unsigned int>(std::min<uint64_t>(m_NumberOfStreamDivisions, blocks));
+  return static_cast<unsigned int>(std::min<uint64_t>(wanted, blocks));
+}
+
+template <typename TInputImage, typename TOutputImage>
+std::string
+DRRImageFilterBase<TInputImage, TOutputImage>::WhyNotStreamable() const
+{
+  if (!this->GetInput())
+  {
+    return "streaming reads the input volume slab by slab: a shared attenuation volume is already whole";
+  }
+  if (this->GetLabelImage() || this->GetLabelChannels() || this->GetMaterialChannels())
+  {
+    return "streaming renders without labels or channels (a slab's labels would be resampled apart)";
+  }
+  return {};
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -324,6 +347,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::ReadSlab(unsigned int slab)
   auto *     input = const_cast<InputImageType *>(this->GetInput());
   const auto largest = input->GetLargestPossibleRegion();
   const auto region = this->GetSlabRegion(slab);
+  m_CurrentSlab = slab + 1;
   input->SetRequestedRegion(region);
   input->PropagateRequestedRegion();
   input->UpdateOutputData();
@@ -493,6 +517,7 @@ DRRImageFilterBase<TInputImage, TOutputImage>::PrintSelf(std::ostream & os, Inde
   os << indent << "WindowLevel: " << m_WindowLevel << std::endl;
   os << indent << "WindowWidth: " << m_WindowWidth << std::endl;
   os << indent << "NumberOfStreamDivisions: " << m_NumberOfStreamDivisions << std::endl;
+  os << indent << "MemoryBudget (bytes): " << m_MemoryBudget << std::endl;
   os << indent << "AttenuationVolume: " << (this->GetSharedAttenuationVolume() ? "shared" : "its own stage's")
      << std::endl;
   os << indent << "AttenuationVolumeFilter:" << std::endl;

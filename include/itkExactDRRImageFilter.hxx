@@ -22,6 +22,7 @@
 #include "itkDRRExactRayIntegrator.h"
 
 #include <algorithm>
+#include <sstream>
 
 namespace itk
 {
@@ -49,15 +50,17 @@ ExactDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
 }
 
 template <typename TInputImage, typename TOutputImage>
-void
-ExactDRRImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() const
+std::string
+ExactDRRImageFilter<TInputImage, TOutputImage>::WhyNotStreamable() const
 {
-  Superclass::VerifyPreconditions();
-  if (this->GetNumberOfStreamDivisions() > 1 && m_ReconstructionKernel != KernelEnum::Box)
+  const std::string why = Superclass::WhyNotStreamable();
+  if (!why.empty() || m_ReconstructionKernel == KernelEnum::Box)
   {
-    itkExceptionMacro("streaming needs the box kernel: a tent voxel reaches into the next slab, not "
-                      << m_ReconstructionKernel);
+    return why;
   }
+  std::ostringstream text;
+  text << "streaming needs the box kernel: a tent voxel reaches into the next slab, not " << m_ReconstructionKernel;
+  return text.str();
 }
 
 template <typename TInputImage, typename TOutputImage>

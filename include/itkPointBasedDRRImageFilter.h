@@ -274,6 +274,14 @@ public:
   ModifiedTimeType
   GetMTime() const override;
 
+  /** An unstreamed point render holds the input, the sampler's tables and the control variate's coarse volume (2.34
+   * bytes per voxel on the chest x4 in all, 2.8 on the x2: docs/performance.md): the input pixel and one byte. */
+  double
+  GetBytesPerVoxel() const override
+  {
+    return sizeof(typename TInputImage::PixelType) + 1.0;
+  }
+
 protected:
   PointBasedDRRImageFilter();
   ~PointBasedDRRImageFilter() override = default;
@@ -321,10 +329,13 @@ protected:
   /** Adds the control variate's coarse image for the current pose to a render of the residual (no-op without one). */
   void
   AddControlVariateImage(const DRRPointRenderer::Settings & settings, DRRPointRenderer::Result & result);
-  /** The base's checks (the input is set), then VerifySettings() with the number of samples of the coming pass, and
-   * streaming's: the stratified sampler, points not kept. */
+  /** The base's checks (the input is set), then VerifySettings() with the number of samples of the coming pass. */
   void
   VerifyPreconditions() const override;
+  /** The base's reasons, and the point-based filter's: a sampler other than the stratified one (its tables are the
+   * whole volume's), kept points. */
+  std::string
+  WhyNotStreamable() const override;
 
   /** Streamed slabs start at whole brick planes (8, the stratified sampler's bricks) and whole coarse blocks of the
    * control variate (F planes). */

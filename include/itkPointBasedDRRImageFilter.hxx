@@ -163,22 +163,29 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   this->VerifySettings(m_RefinementSamples > 0 ? m_RefinementSamples : m_NumberOfSamples);
-  if (this->GetNumberOfStreamDivisions() <= 1)
+}
+
+template <typename TInputImage, typename TOutputImage>
+std::string
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::WhyNotStreamable() const
+{
+  const std::string why = Superclass::WhyNotStreamable();
+  if (!why.empty())
   {
-    return;
+    return why;
   }
-  if (!dynamic_cast<const DRRStratifiedSampler *>(m_Sampler.GetPointer()))
+  if (m_Sampler && !dynamic_cast<const DRRStratifiedSampler *>(m_Sampler.GetPointer()))
   {
-    itkExceptionMacro("streaming shares the points out between the slabs along the stratified sampler's curve (the "
-                      "unstreamed render's points); "
-                      << m_Sampler->GetNameOfClass()
-                      << " draws its voxels from tables of the whole volume: use the stratified sampler");
+    return "streaming shares the points out between the slabs along the stratified sampler's curve (the unstreamed "
+           "render's points); " +
+           std::string(m_Sampler->GetNameOfClass()) +
+           " draws its voxels from tables of the whole volume: use the stratified sampler";
   }
   if (m_ReusePoints)
   {
-    itkExceptionMacro(
-      "streaming draws the points slab by slab: kept points (ReusePoints) would hold the whole volume's");
+    return "streaming draws the points slab by slab: kept points (ReusePoints) would hold the whole volume's";
   }
+  return {};
 }
 
 template <typename TInputImage, typename TOutputImage>

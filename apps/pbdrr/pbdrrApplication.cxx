@@ -27,10 +27,12 @@
 #include "pbdrrVolumeLoader.h"
 
 #include "itkCommand.h"
+#include "itkDRRMemoryBudget.h"
 #include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRQuantumNoiseImageFilter.h"
 #include "itkExactDRRImageFilter.h"
+#include "itkGDCMImageIO.h"
 #include "itkDRROutputConversion.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkImageFileReader.h"
@@ -259,9 +261,11 @@ MakeRenderer(const Options & options, const TVolume * volume)
     auto exact = itk::ExactDRRImageFilter<TVolume, ProjectionType>::New();
     exact->SetReconstructionKernel(*options.exact);
     exact->SetRaysPerPixelSide(options.raysPerSide);
-    exact->SetNumberOfStreamDivisions(options.stream);
     renderer.Filter = exact.GetPointer();
   }
+  // pbdrr chooses the slabs itself (ChooseStreamSlabs()): before the load, which they decide.
+  renderer.Filter->SetNumberOfStreamDivisions(options.stream);
+  renderer.Filter->SetMemoryBudget(0);
   renderer.Filter->SetInput(volume);
   renderer.Filter->SetTransferFunction(MakeTransferFunction(options));
   ApplyLabelOptions(options, renderer.Filter.GetPointer());
@@ -380,6 +384,53 @@ OpenStreamedVolume(const std::string & input)
   return loaded;
 }
 
+/** The slabs a single view reads its CT in: --stream, or as many as --memory-budget (default: half the machine's
+ * memory) needs for a CT file (not DICOM) whose unstreamed render would hold more, if its settings can be streamed
+ * (the filter's own rule, DRRImageFilterBase::GetNumberOfSlabs(), asked of a filter given the file's header); 1
+ * otherwise. Says why on stderr when it streams unasked. */
+unsigned int
+ChooseStreamSlabs(const Options & options)
+{
+  if (options.stream > 1)
+  {
+    return options.stream;
+  }
+  const uint64_t budget =
+    options.memoryBudget ? *options.memoryBudget : itk::DRRMemoryBudget::GetDefaultBudgetInBytes();
+  struct stat status;
+  if (budget == 0 || stat(options.input.c_str(), &status) != 0 || S_ISDIR(status.st_mode))
+  {
+    return 1;
+  }
+  auto io = itk::ImageIOFactory::CreateImageIO(options.input.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+  if (!io || dynamic_cast<itk::GDCMImageIO *>(io.GetPointer()))
+  {
+    return 1; // not an image ITK reads (the load says so), or DICOM: read whole
+  }
+  unsigned int slabs = 1;
+  try
+  {
+    const LoadedVolume header = OpenStreamedVolume(options.input);
+    const auto         count = [&](const auto * volume) {
+      const auto renderer = MakeRenderer(options, volume);
+      renderer.Filter->SetMemoryBudget(budget);
+      return renderer.Filter->GetNumberOfSlabs();
+    };
+    slabs = header.HU ? count(header.HU.GetPointer()) : count(header.Image.GetPointer());
+  }
+  catch (const std::exception &)
+  {
+    return 1; // the load words what is wrong with the file
+  }
+  if (slabs > 1 && !options.quiet)
+  {
+    std::cerr << "pbdrr: the render of " << options.input << " would hold more than the memory budget ("
+              << static_cast<double>(budget) / 0x1p30 << " GiB, --memory-budget): streamed in " << slabs << " slabs"
+              << std::endl;
+  }
+  return slabs;
+}
+
 /** Renders and writes the view of the options from a loaded volume (of its own pixel type: int16 HU or float). */
 template <typename TVolume>
 void
@@ -408,13 +459,17 @@ RenderView(const Options &                               options,
   filter->SetGeometry(geometry);
 
   auto start = Clock::now();
-  if (pointBased)
+  if (options.stream > 1)
+  {
+    // Streamed: each slab's model is built as the slab is read, in the render.
+  }
+  else if (pointBased)
   {
     pointBased->PrepareSampling();
   }
-  else if (options.stream <= 1)
+  else
   {
-    filter->GetAttenuationVolume(); // streamed, each slab's model is built as the slab is read
+    filter->GetAttenuationVolume();
   }
   stages.emplace_back("preprocess", SecondsSince(start));
 
@@ -422,7 +477,11 @@ RenderView(const Options &                               options,
   auto        command = itk::CStyleCommand::New();
   command->SetClientData(&progress);
   command->SetCallback([](itk::Object * caller, const itk::EventObject &, void * data) {
-    static_cast<ProgressBar *>(data)->Show(static_cast<itk::ProcessObject *>(caller)->GetProgress());
+    const auto *      renderer = static_cast<BaseFilterType<TVolume> *>(caller);
+    const std::string slab = renderer->GetCurrentSlab() > 0 ? " slab " + std::to_string(renderer->GetCurrentSlab()) +
+                                                                " of " + std::to_string(renderer->GetNumberOfSlabs())
+                                                            : std::string();
+    static_cast<ProgressBar *>(data)->Show(renderer->GetProgress(), slab);
   });
   filter->AddObserver(itk::ProgressEvent(), command);
   start = Clock::now();
@@ -549,9 +608,11 @@ Run(const Options & options)
 
   MakeGeometry(options, nullptr); // the view's checks (geometry file, SID against SAD) before the load
 
-  auto               start = Clock::now();
-  ProgressBar        loadProgress(chatty);
-  const LoadedVolume loaded = options.stream > 1
+  auto        start = Clock::now();
+  ProgressBar loadProgress(chatty);
+  Options     viewOptions = options;
+  viewOptions.stream = ChooseStreamSlabs(options);
+  const LoadedVolume loaded = viewOptions.stream > 1
                                 ? OpenStreamedVolume(options.input)
                                 : LoadVolume(options.input, options.seriesUID, [&](size_t done, size_t total) {
                                     loadProgress.ShowCount("reading DICOM files", done, total);
@@ -567,11 +628,11 @@ Run(const Options & options)
   }
   if (loaded.HU)
   {
-    RenderView(options, loaded, loaded.HU.GetPointer(), spectrum, stages);
+    RenderView(viewOptions, loaded, loaded.HU.GetPointer(), spectrum, stages);
   }
   else
   {
-    RenderView(options, loaded, loaded.Image.GetPointer(), spectrum, stages);
+    RenderView(viewOptions, loaded, loaded.Image.GetPointer(), spectrum, stages);
   }
 }
 

@@ -129,6 +129,38 @@ WholeNumber(const std::string & value, const std::string & flag, double lowest, 
   return static_cast<unsigned>(number);
 }
 
+/** A size in bytes: a number with an optional unit K, M, G or T (powers of 1024, optionally followed by B or iB), or
+ * B; 0 for none. */
+uint64_t
+ParseByteSize(const std::string & value, const std::string & flag)
+{
+  size_t unitStart = value.find_first_not_of("0123456789.eE+-");
+  // An exponent's e is part of the number only when followed by a digit or a sign ("1e9"), not in "1E" (no unit E).
+  const std::string number = value.substr(0, unitStart);
+  std::string       unit = unitStart == std::string::npos ? std::string() : value.substr(unitStart);
+  for (char & c : unit)
+  {
+    c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  }
+  const std::vector<std::pair<std::string, double>> units = { { "", 1.0 },      { "B", 1.0 },      { "K", 0x1p10 },
+                                                              { "KB", 0x1p10 }, { "KIB", 0x1p10 }, { "M", 0x1p20 },
+                                                              { "MB", 0x1p20 }, { "MIB", 0x1p20 }, { "G", 0x1p30 },
+                                                              { "GB", 0x1p30 }, { "GIB", 0x1p30 }, { "T", 0x1p40 },
+                                                              { "TB", 0x1p40 }, { "TIB", 0x1p40 } };
+  const auto                                        found =
+    std::find_if(units.begin(), units.end(), [&](const std::pair<std::string, double> & u) { return u.first == unit; });
+  if (number.empty() || found == units.end())
+  {
+    throw UsageError(flag + " expects a size such as 3G, 512M or 0 (none), got '" + value + "'");
+  }
+  const double bytes = ParseNumber(number, flag) * found->second;
+  if (!(bytes >= 0.0 && bytes <= 0x1p62))
+  {
+    throw UsageError(flag + " expects a size from 0 to 4 EiB, got '" + value + "'");
+  }
+  return static_cast<uint64_t>(bytes);
+}
+
 /** "1,3,7" (--keep-labels, --drop-labels): labels from 0 to 65535, each once. */
 std::vector<uint16_t>
 ParseLabelList(const std::string & value, const std::string & flag)
@@ -509,8 +541,20 @@ OptionDeclarations()
       "SLABS",
       "",
       "read the CT in SLABS slabs of z planes, one at a time, for a CT larger than\n"
-      "memory (--exact siddon; a MetaImage, NRRD or uncompressed NIfTI file)",
+      "memory: the same image (a MetaImage, NRRD or uncompressed NIfTI file; the\n"
+      "stratified sampler or --exact siddon)",
       [](Options & o, const Values & v) { o.stream = WholeNumber(v[0], "--stream", 1, 1000000); } },
+    { "--memory-budget",
+      "",
+      1,
+      one,
+      "--memory-budget applies to one view (a batch does not stream yet)",
+      OptionGroup::Rendering,
+      "SIZE",
+      "half the memory",
+      "stream a CT whose render would hold more than SIZE (e.g. 3G; 0: never)\n"
+      "in as many slabs as keep it within (default: {default})",
+      [](Options & o, const Values & v) { o.memoryBudget = ParseByteSize(v[0], "--memory-budget"); } },
     { "--paper-count",
       "",
       0,

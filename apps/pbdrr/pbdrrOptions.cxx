@@ -332,10 +332,16 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   {
     throw UsageError("--energy and --mu-water both set mu_water: give one");
   }
-  if (options.stream > 1 && options.exact != itk::PointBasedDRREnums::ReconstructionKernel::Box)
+  if (options.stream > 1 && options.exact && *options.exact != itk::PointBasedDRREnums::ReconstructionKernel::Box)
   {
-    throw UsageError("--stream reads the CT slab by slab for --exact siddon only (point sampling and the trilinear "
-                     "projector do not stream yet)");
+    throw UsageError("--stream reads the CT slab by slab for --exact siddon, not the trilinear projector (a tent voxel "
+                     "reaches into the next slab)");
+  }
+  if (options.stream > 1 && !options.exact && options.sampler != "stratified")
+  {
+    throw UsageError(
+      "--stream shares the points out between the slabs along the stratified sampler's curve; --sampler " +
+      options.sampler + " draws from tables of the whole volume");
   }
   if (options.exact && options.paperCount)
   {

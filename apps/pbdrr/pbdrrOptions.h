@@ -69,6 +69,7 @@ struct Options
   uint64_t                                      seed{ 0 };
   unsigned                                      threads{ 0 }; // 0: all
   unsigned                                      stream{ 1 };  // slabs the CT is read in (1: whole)
+  std::optional<uint64_t>                       memoryBudget; // bytes (0: none); unset: half the machine's memory
   bool                                          paperCount{ false };
   unsigned                                      strata{ 0 }; // 0: the sampler's preference
   /** --control-variate: the coarsening factor F (0: off; the filter's AutomaticControlVariateFactor: auto, the

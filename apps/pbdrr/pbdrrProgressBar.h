@@ -36,8 +36,9 @@ public:
   {}
   ~ProgressBar() { this->Finish(); }
 
+  /** The bar at progress (0 to 1), with what is being done (e.g. " slab 3 of 32") after the time left. */
   void
-  Show(float progress)
+  Show(float progress, const std::string & what = std::string())
   {
     if (!this->Due())
     {
@@ -52,11 +53,12 @@ public:
     const int width = 40;
     const int filled = static_cast<int>(progress * width + 0.5f);
     std::fprintf(stderr,
-                 "\r[%s%s] %3d%%%s",
+                 "\r[%s%s] %3d%%%s%s",
                  std::string(filled, '=').c_str(),
                  std::string(width - filled, ' ').c_str(),
                  static_cast<int>(progress * 100.0f + 0.5f),
-                 TimeLeft(progress, SecondsSinceStart(m_PhaseStart)).c_str());
+                 TimeLeft(progress, SecondsSinceStart(m_PhaseStart)).c_str(),
+                 what.c_str());
     std::fflush(stderr);
     m_Shown = true;
   }

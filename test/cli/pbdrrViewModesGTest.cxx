@@ -339,6 +339,19 @@ ViewModeCases()
       Render::Exact,
       batchesRefuse("--stream renders one view \\(a batch does not stream yet\\)"),
       with(exact, small) },
+    // The stratified sampler's points streamed: the same points, the same bits (a control variate of F 4, which `auto`
+    // never goes below when streaming).
+    { "stream_points",
+      with(with(points, small), { "--stream", "2", "--control-variate", "4" }),
+      Render::Points,
+      batchesRefuse("--stream renders one view \\(a batch does not stream yet\\)"),
+      with(with(points, small), { "--control-variate", "4" }) },
+    // A budget below the render's bytes streams it unasked: the same bits.
+    { "memory_budget",
+      with(with(points, small), { "--memory-budget", "2K", "--control-variate", "4" }),
+      Render::Points,
+      batchesRefuse("--memory-budget applies to one view \\(a batch does not stream yet\\)"),
+      with(with(points, small), { "--control-variate", "4" }) },
     { "stderr",
       with(with(points, small), { "--stderr", Input("se_%d.mha") }),
       Render::Points,
