@@ -117,6 +117,10 @@ public:
    * for a negative or non-finite mu. The index-to-physical mapping is left as it was. */
   void
   BuildFromMu(const SizeType & size, const MuFunctionType & fill, MultiThreaderBase * threader);
+  /** The same from a buffer of mu (1/mm) per voxel already filled (size's voxels, x fastest), which the volume takes:
+   * no copy. */
+  void
+  BuildFromMu(const SizeType & size, std::unique_ptr<float[]> mu, MultiThreaderBase * threader);
 
   /** Makes this volume the residual of a control variate: |mu_v - mu_c(block of v)| (1/mm) on the grid of fine padded
    * to a multiple of factor per axis (the padding is air in fine), where coarse holds the block means mu_c, one voxel
@@ -442,6 +446,9 @@ private:
   /** Starts a Build(): sets the size, drops mu and the levels. */
   void
   Reset(const SizeType & size);
+  /** Checks the mu buffer (filled first by fill, if not null) and finishes its statistics, block by block. */
+  void
+  FinishMuBuffer(const MuFunctionType * fill, MultiThreaderBase * threader);
   /** Throws for a failed voxel (Failure::Voxel < number of voxels). */
   void
   ThrowFailure(const Failure & failure) const;

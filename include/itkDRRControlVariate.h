@@ -24,6 +24,7 @@
 #include "itkDRRPointRenderer.h"
 #include "PointBasedDRRExport.h"
 
+#include <memory>
 #include <vector>
 
 namespace itk
@@ -196,7 +197,7 @@ private:
   SetCoarseGrid(const DRRAttenuationVolume & volume);
 
   unsigned int                   m_Factor{ 0 };
-  std::vector<float>             m_SlabCoarseMu; // the coarse planes the slabs gave so far (BeginSlabs() .. EndSlabs())
+  std::unique_ptr<float[]>       m_SlabCoarseMu; // the coarse planes the slabs gave so far (BeginSlabs() .. EndSlabs())
   DRRAttenuationVolume::SizeType m_SlabCoarseSize{ { 0, 0, 0 } };
   double                         m_TotalMass{ 0.0 };
   DRRAttenuationVolume::Pointer  m_CoarseVolume;

@@ -348,6 +348,11 @@ DRRImageFilterBase<TInputImage, TOutputImage>::ReadSlab(unsigned int slab)
   const auto largest = input->GetLargestPossibleRegion();
   const auto region = this->GetSlabRegion(slab);
   m_CurrentSlab = slab + 1;
+  if (input->GetSource() && !input->GetBufferedRegion().IsInside(region))
+  {
+    // The source makes the next slab anew: free this one first, or the reader allocates it beside the last.
+    input->ReleaseData();
+  }
   input->SetRequestedRegion(region);
   input->PropagateRequestedRegion();
   input->UpdateOutputData();

@@ -53,6 +53,10 @@ namespace itk
  * numbers keyed by seed and chunk, integer reduction). Progress events are reported per chunk of samples and
  * AbortGenerateData() stops the render between chunks.
  *
+ * Streaming (SetNumberOfStreamDivisions(), SetMemoryBudget()): the volume is read from the pipeline slab by slab and
+ * each slab draws its share of the stratified sampler's points, the same points as the render of the whole volume, so
+ * the image is the same bit for bit (docs/design.md section 16). Other samplers and kept points are not streamed.
+ *
  * \sa ExactDRRImageFilter, DRRProjectionGeometry, DRRLevelAliasSampler
  * \ingroup PointBasedDRR
  */

@@ -232,8 +232,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
   {
     itkExceptionMacro("streaming needs the stratified sampler");
   }
-  // A sampler of the slabs' own: the filter's keeps its tables of the whole volume (if any) for unstreamed renders.
-  const auto                    sampler = DRRStratifiedSampler::New();
+  // Samplers of the slabs' own: the filter's keeps its tables of the whole volume (if any) for unstreamed renders.
+  DRRStratifiedSampler::Pointer sampler;
   MultiThreaderBase *           threader = this->GetMultiThreader();
   const unsigned int            slabs = this->GetNumberOfSlabs();
   const auto                    grid = this->MakeInputGrid();
@@ -258,9 +258,13 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
   DRRAttenuationVolume::Pointer slabVolume;
   DRRControlVariate::Pointer    slabControlVariate;
   const auto                    prepareSlab = [&](unsigned int slab) {
+    // The last slab's tables and model go before this one is read: they hold its voxels (the model reads them in
+    // place), which would otherwise stay beside the new ones.
+    sampler = nullptr;
     slabControlVariate = nullptr;
-    slabVolume = nullptr; // the last slab's model goes before this one's is read
+    slabVolume = nullptr;
     slabVolume = this->ReadSlab(slab);
+    sampler = DRRStratifiedSampler::New();
     if (factor != 0)
     {
       slabControlVariate = DRRControlVariate::New();
@@ -343,6 +347,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
     }
     this->UpdateProgress(0.5f + 0.5f * static_cast<float>(slab + 1) / static_cast<float>(slabs));
   }
+  sampler = nullptr;
   slabControlVariate = nullptr;
   slabVolume = nullptr;
   DRRPointRenderer::Result result =

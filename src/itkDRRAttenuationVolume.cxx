@@ -601,19 +601,36 @@ void
 DRRAttenuationVolume::BuildFromMu(const SizeType & size, const MuFunctionType & fill, MultiThreaderBase * threader)
 {
   this->Reset(size);
+  m_Mu.reset(new float[this->GetNumberOfVoxels()]);
+  this->FinishMuBuffer(&fill, threader);
+}
+
+void
+DRRAttenuationVolume::BuildFromMu(const SizeType & size, std::unique_ptr<float[]> mu, MultiThreaderBase * threader)
+{
+  this->Reset(size);
+  m_Mu = std::move(mu);
+  this->FinishMuBuffer(nullptr, threader);
+}
+
+void
+DRRAttenuationVolume::FinishMuBuffer(const MuFunctionType * fill, MultiThreaderBase * threader)
+{
   const uint64_t       numberOfVoxels = this->GetNumberOfVoxels();
   const uint64_t       numberOfBlocks = this->GetNumberOfBlocks();
   std::vector<Failure> failures(numberOfBlocks);
   std::vector<float>   smallest(numberOfBlocks, std::numeric_limits<float>::max());
   std::vector<float>   largest(numberOfBlocks, 0.0f);
-  m_Mu.reset(new float[numberOfVoxels]);
-  float * mu = m_Mu.get();
+  float *              mu = m_Mu.get();
   ParallelizeBlocks(
     numberOfBlocks,
     [&](uint64_t b) {
       const uint64_t begin = this->GetBlockBegin(b);
       const uint64_t end = this->GetBlockBegin(b + 1);
-      fill(begin, end, mu);
+      if (fill)
+      {
+        (*fill)(begin, end, mu);
+      }
       Failure & failure = failures[b];
       failure.Voxel = numberOfVoxels;
       float blockSmallest = std::numeric_limits<float>::max();

@@ -180,7 +180,8 @@ DRRControlVariate::BeginSlabs(const DRRAttenuationVolume::SizeType &   wholeSize
   {
     m_SlabCoarseSize[a] = (wholeSize[a] + factor - 1) / factor;
   }
-  m_SlabCoarseMu.assign(m_SlabCoarseSize[0] * m_SlabCoarseSize[1] * m_SlabCoarseSize[2], 0.0f);
+  // The coarse volume's own buffer, filled slab by slab and then taken by it (EndSlabs()): no second copy.
+  m_SlabCoarseMu.reset(new float[m_SlabCoarseSize[0] * m_SlabCoarseSize[1] * m_SlabCoarseSize[2]]());
   // The coarse grid of the whole (BuildCoarseVolume()): a header with no voxel gives the matrix and origin.
   auto header = DRRAttenuationVolume::New();
   header->SetIndexToPhysical(indexToPhysical, origin);
@@ -201,9 +202,11 @@ DRRControlVariate::AddSlab(const DRRControlVariate & slab, uint64_t firstPlane)
                                                        << ")");
   }
   const float * mu = coarse.GetMuBuffer();
-  std::copy(mu,
-            mu + plane * coarse.GetSize()[2],
-            m_SlabCoarseMu.begin() + static_cast<std::ptrdiff_t>(plane * firstCoarsePlane));
+  if (!m_SlabCoarseMu)
+  {
+    itkExceptionMacro("AddSlab() outside BeginSlabs() .. EndSlabs()");
+  }
+  std::copy(mu, mu + plane * coarse.GetSize()[2], m_SlabCoarseMu.get() + plane * firstCoarsePlane);
   m_TotalMass += slab.GetTotalMass();
 }
 
@@ -212,16 +215,11 @@ DRRControlVariate::EndSlabs(MultiThreaderBase * threader)
 {
   const DRRAttenuationVolume::MatrixType matrix = m_CoarseVolume->GetIndexToPhysicalMatrix();
   const DRRAttenuationVolume::PointType  origin = m_CoarseVolume->GetOrigin();
-  const std::vector<float>               planes = std::move(m_SlabCoarseMu);
-  m_SlabCoarseMu = {};
-  m_CoarseVolume->BuildFromMu(
-    m_SlabCoarseSize,
-    [&](uint64_t begin, uint64_t end, float * coarseMu) {
-      std::copy(planes.begin() + static_cast<std::ptrdiff_t>(begin),
-                planes.begin() + static_cast<std::ptrdiff_t>(end),
-                coarseMu + begin);
-    },
-    threader);
+  if (!m_SlabCoarseMu)
+  {
+    itkExceptionMacro("EndSlabs() without BeginSlabs()");
+  }
+  m_CoarseVolume->BuildFromMu(m_SlabCoarseSize, std::move(m_SlabCoarseMu), threader);
   m_CoarseVolume->SetIndexToPhysical(matrix, origin);
   this->Modified();
 }
