@@ -319,6 +319,14 @@ protected:
   virtual std::string
   WhyNotStreamable() const;
 
+  /** False if the next streamed update reads no slab (the point filter's kept points drawn already): the input is
+   * then asked for what it holds, not for a slab. */
+  virtual bool
+  ReadsSlabsAtNextUpdate() const
+  {
+    return true;
+  }
+
   /** Planes a slab of a streamed render starts at a multiple of (1: any plane; the point-based filter's bricks and
    * coarse blocks need more). */
   virtual uint64_t

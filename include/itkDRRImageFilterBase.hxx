@@ -201,7 +201,10 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
   auto * input = const_cast<InputImageType *>(this->GetInput());
   if (input && this->GetNumberOfSlabs() > 1)
   {
-    input->SetRequestedRegion(this->GetSlabRegion(0));
+    // Streaming: the first slab, or what the input holds if the update reads no slab (nothing is read then).
+    const auto buffered = input->GetBufferedRegion();
+    const bool holdsSome = buffered.GetNumberOfPixels() > 0 && input->GetLargestPossibleRegion().IsInside(buffered);
+    input->SetRequestedRegion(!this->ReadsSlabsAtNextUpdate() && holdsSome ? buffered : this->GetSlabRegion(0));
   }
   else if (input)
   {

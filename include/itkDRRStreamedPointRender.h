@@ -19,6 +19,7 @@
 #define itkDRRStreamedPointRender_h
 
 #include "itkDRRCompatibility.h"
+#include "itkDRRPointCloud.h"
 #include "itkDRRPointRenderer.h"
 #include "itkDRRStratifiedSampler.h"
 #include "PointBasedDRRExport.h"
@@ -66,6 +67,10 @@ public:
                const DRRPointRenderer::Settings &          settings,
                const DRRStratifiedSampler::SlabPlacement & placement);
 
+  /** The run of a render of settings by a sampler of traits, whose windows the slabs draw (GetRun()). */
+  static DRRPointSampler::SampleRange
+  MakeRun(const DRRPointRenderer::Settings & settings, const DRRSamplerTraits & traits);
+
   /** The run whose windows the slabs draw: seed, strata interleaved in it and its size (First and Count 0). */
   DRRPointSampler::SampleRange
   GetRun() const;
@@ -79,6 +84,30 @@ public:
           const std::array<uint64_t, 2> window,
           uint64_t                      firstPlane,
           const DRRAttenuationVolume *  signedResidual);
+
+  /** Points kept for many views (PointBasedDRRImageFilter::SetReusePoints()), drawn slab by slab: a cloud sized for
+   * the whole run of settings, described as DRRPointRenderer::Draw() describes the whole volume's (wholeSize voxels,
+   * sampledMass mm^2), whose points the slabs then draw (DrawSlab()). signedPoints: a control variate's residual (the
+   * cloud keeps the weights' signs). */
+  static DRRPointCloud::Pointer
+  MakeCloud(const DRRPointRenderer::Settings & settings,
+            const DRRSamplerTraits &           traits,
+            double                             maximumWeight,
+            const std::array<uint64_t, 3> &    wholeSize,
+            double                             sampledMass,
+            bool                               signedPoints);
+
+  /** Draws the samples [window[0], window[1]) of a cloud's run (MakeCloud()) from the plan of a sampler initialized on
+   * a slab whose first z plane is firstPlane of the whole volume: the points DRRPointRenderer::Draw() puts there. */
+  static void
+  DrawSlab(DRRPointCloud &                    cloud,
+           const DRRPointRenderer::Settings & settings,
+           const DRRSamplerViewPlan &         plan,
+           const DRRPointSampler &            sampler,
+           const std::array<uint64_t, 2>      window,
+           uint64_t                           firstPlane,
+           const DRRAttenuationVolume *       signedResidual,
+           MultiThreaderBase *                threader);
 
   /** The samples the slabs have drawn so far. */
   uint64_t

@@ -337,7 +337,7 @@ protected:
   void
   VerifyPreconditions() const override;
   /** The base's reasons, and the point-based filter's: a sampler other than the stratified one (its tables are the
-   * whole volume's), kept points. */
+   * whole volume's). */
   std::string
   WhyNotStreamable() const override;
 
@@ -351,9 +351,23 @@ protected:
   ResolveStreamedControlVariateFactor() const;
   /** One pass of a render streamed by slabs (docs/design.md section 16): a first pass over the slabs gathers the
    * masses along the sampler's curve (and the coarse volume), a second draws each slab's window of the samples into
-   * the whole render's sums. The same image, bit for bit, as the render of the whole volume. */
+   * the whole render's sums, or, keepPoints, into kept points of the whole volume (m_PointCloud, with the coarse volume
+   * m_StreamedControlVariate; the result is then empty). The same image, bit for bit, as the render of the whole
+   * volume. */
   DRRPointRenderer::Result
-  RenderStreamed(const DRRPointRenderer::Settings & settings);
+  RenderStreamed(const DRRPointRenderer::Settings & settings, bool keepPoints);
+  /** Renders the kept points for the current pose, drawing them first slab by slab (RenderStreamed() keeping the
+   * points of the whole volume, and the control variate's coarse volume) if they are missing or stale: each slab is
+   * read for the first view only, every later pose re-projects the points. */
+  DRRPointRenderer::Result
+  RenderStreamedKeptPoints(const DRRPointRenderer::Settings & settings);
+  /** True if kept points drawn slab by slab are current: nothing they are made of (sampling settings, sampler,
+   * transfer function, anything upstream of the input) is newer. */
+  bool
+  StreamedPointCloudIsCurrent() const;
+  /** A streamed update of current kept points reads no slab: it re-projects them. */
+  bool
+  ReadsSlabsAtNextUpdate() const override;
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
@@ -393,7 +407,9 @@ private:
   unsigned int                       m_PreparedFactor{ 0 };  // its F, or F declined (`auto` found M_r / M too large)
   TimeStamp                          m_SamplerTime;          // when the sampler was initialized
   DRRPointCloud::Pointer             m_PointCloud;
-  TimeStamp                          m_PointCloudTime; // when the kept points were drawn
+  DRRControlVariate::Pointer         m_StreamedControlVariate;      // the coarse volume of kept points drawn streamed
+  bool                               m_PointCloudStreamed{ false }; // the kept points were drawn slab by slab
+  TimeStamp                          m_PointCloudTime;              // when the kept points were drawn
   unsigned int                       m_NumberOfPointCloudDraws{ 0 };
   // The renders of the kept points reuse their sums from pose to pose.
   std::shared_ptr<DRRPointRenderer::Workspace> m_PointCloudWorkspace;

@@ -181,10 +181,6 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::WhyNotStreamable() const
            std::string(m_Sampler->GetNameOfClass()) +
            " draws its voxels from tables of the whole volume: use the stratified sampler";
   }
-  if (m_ReusePoints)
-  {
-    return "streaming draws the points slab by slab: kept points (ReusePoints) would hold the whole volume's";
-  }
   return {};
 }
 
@@ -204,8 +200,11 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::ResolveStreamedControlVaria
   const auto                     grid = this->MakeInputGrid();
   const auto                     size = input->GetLargestPossibleRegion().GetSize();
   DRRAttenuationVolume::SizeType wholeSize{ { size[0], size[1], size[2] } };
-  const unsigned int             factor =
-    DRRControlVariate::ChooseFactor(wholeSize, grid->GetVoxelVolume(), this->MakeProjection(*grid), m_NumberOfSamples);
+  const unsigned int             factor = DRRControlVariate::ChooseFactor(wholeSize,
+                                                              grid->GetVoxelVolume(),
+                                                              this->MakeProjection(*grid),
+                                                              m_NumberOfSamples,
+                                                              m_ReusePoints ? m_ExpectedNumberOfPoses : 1);
   return std::max(factor, MinimumStreamedAutomaticFactor);
 }
 
@@ -225,7 +224,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSlabAlignment() const
 
 template <typename TInputImage, typename TOutputImage>
 DRRPointRenderer::Result
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPointRenderer::Settings & settings)
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPointRenderer::Settings & settings,
+                                                                    bool                               keepPoints)
 {
   using Placement = DRRStratifiedSampler::SlabPlacement;
   if (!dynamic_cast<const DRRStratifiedSampler *>(m_Sampler.GetPointer()))
@@ -244,6 +244,11 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
   const auto                    firstPlaneOf = [&](unsigned int slab) {
     return static_cast<uint64_t>(this->GetSlabRegion(slab).GetIndex()[2] -
                                  this->GetInput()->GetLargestPossibleRegion().GetIndex()[2]);
+  };
+  // Kept points serve every view: the whole volume's plan, not culled.
+  const auto planOf = [&](const Placement & placement) {
+    return keepPoints ? sampler->MakeSlabViewPlan(nullptr, 0.0, 0.0, placement)
+                      : DRRStreamedPointRender::MakeSlabPlan(*sampler, projection, settings, placement);
   };
   const auto checkAbort = [&]() {
     if (this->GetAbortGenerateData())
@@ -301,7 +306,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
       placement.FirstPlane = firstPlaneOf(slab);
       placement.MassBefore = viewMass;
       massBefore[slab] = viewMass;
-      const auto plan = DRRStreamedPointRender::MakeSlabPlan(*sampler, projection, settings, placement);
+      const auto plan = planOf(placement);
       viewMass = DRRStratifiedSampler::GetMassAtEnd(*plan);
       viewVoxels += DRRStratifiedSampler::GetNumberOfVoxelsInPlan(*plan);
       lastSlabInView = DRRStratifiedSampler::GetNumberOfVoxelsInPlan(*plan) > 0 ? slab : lastSlabInView;
@@ -323,9 +328,22 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
     }
   }
 
-  // Second pass: every slab draws its window of the run's samples into the whole render's sums.
-  DRRStreamedPointRender render(
-    settings, projection, sampler->GetTraits(), sampler->GetMaximumWeight(), wholeSize, threader);
+  // Second pass: every slab draws its window of the run's samples into the whole render's sums, or into the kept
+  // points.
+  const DRRSamplerTraits                  traits = sampler->GetTraits();
+  const DRRPointSampler::SampleRange      run = DRRStreamedPointRender::MakeRun(settings, traits);
+  std::unique_ptr<DRRStreamedPointRender> render;
+  DRRPointCloud::Pointer                  cloud;
+  if (keepPoints)
+  {
+    cloud = DRRStreamedPointRender::MakeCloud(
+      settings, traits, sampler->GetMaximumWeight(), wholeSize, viewMass * grid->GetVoxelVolume(), factor != 0);
+  }
+  else
+  {
+    render = std::make_unique<DRRStreamedPointRender>(
+      settings, projection, traits, sampler->GetMaximumWeight(), wholeSize, threader);
+  }
   for (unsigned int slab = 0; slab < slabs; ++slab)
   {
     checkAbort();
@@ -338,23 +356,41 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
     if (slab <= lastSlabInView && viewVoxels > 0)
     {
       prepareSlab(slab);
-      const auto plan = DRRStreamedPointRender::MakeSlabPlan(*sampler, projection, settings, placement);
-      render.AddSlab(*plan,
-                     *sampler,
-                     DRRStratifiedSampler::GetSampleWindow(*plan, render.GetRun()),
-                     placement.FirstPlane,
-                     slabControlVariate ? &slabControlVariate->GetResidualVolume() : nullptr);
+      const auto                   plan = planOf(placement);
+      const auto                   window = DRRStratifiedSampler::GetSampleWindow(*plan, run);
+      const DRRAttenuationVolume * residual = slabControlVariate ? &slabControlVariate->GetResidualVolume() : nullptr;
+      if (keepPoints)
+      {
+        DRRStreamedPointRender::DrawSlab(
+          *cloud, settings, *plan, *sampler, window, placement.FirstPlane, residual, threader);
+      }
+      else
+      {
+        render->AddSlab(*plan, *sampler, window, placement.FirstPlane, residual);
+      }
     }
     this->UpdateProgress(0.5f + 0.5f * static_cast<float>(slab + 1) / static_cast<float>(slabs));
   }
   sampler = nullptr;
   slabControlVariate = nullptr;
   slabVolume = nullptr;
-  DRRPointRenderer::Result result =
-    render.Finish(sampledTotal * grid->GetVoxelVolume(), viewMass * grid->GetVoxelVolume());
   if (controlVariate)
   {
     controlVariate->EndSlabs(threader);
+  }
+  if (keepPoints)
+  {
+    m_PointCloud = cloud;
+    m_PointCloudStreamed = true;
+    m_StreamedControlVariate = controlVariate;
+    m_PointCloudTime.Modified();
+    ++m_NumberOfPointCloudDraws;
+    return {};
+  }
+  DRRPointRenderer::Result result =
+    render->Finish(sampledTotal * grid->GetVoxelVolume(), viewMass * grid->GetVoxelVolume());
+  if (controlVariate)
+  {
     controlVariate->AddCoarseImage(projection,
                                    settings.Splat,
                                    m_ControlVariateRaysPerSide,
@@ -452,7 +488,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(uint64_t samples
   DRRPointRenderer::Result result;
   if (this->GetNumberOfSlabs() > 1)
   {
-    result = this->RenderStreamed(settings);
+    result =
+      m_ReusePoints && pass == 0 ? this->RenderStreamedKeptPoints(settings) : this->RenderStreamed(settings, false);
   }
   else if (m_ReusePoints && pass == 0)
   {
@@ -508,12 +545,14 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints(DRRPointRe
   settings.NumberOfChannels = volume.GetNumberOfChannels();
   // The points are stale once the sampler's tables or a setting they are drawn with (samples, seed, kernel, strata)
   // are newer; the pose (transform, geometry), the splat and the weighting are not among them.
-  if (!m_PointCloud ||
+  if (!m_PointCloud || m_PointCloudStreamed ||
       std::max(m_SamplerTime.GetMTime(), m_SamplingSettingsTime.GetMTime()) > m_PointCloudTime.GetMTime())
   {
     m_PointCloud = nullptr; // free the old points before drawing new ones
     m_PointCloud = DRRPointRenderer::Draw(volume, *m_Sampler, settings, this->GetMultiThreader(), this);
     m_PointCloudTime.Modified();
+    m_PointCloudStreamed = false;
+    m_StreamedControlVariate = nullptr;
     ++m_NumberOfPointCloudDraws;
   }
   if (!m_PointCloudWorkspace)
@@ -523,6 +562,63 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderKeptPoints(DRRPointRe
   DRRPointRenderer::Result result = DRRPointRenderer::Render(
     *m_PointCloud, this->MakeProjection(), settings, this->GetMultiThreader(), this, m_PointCloudWorkspace.get());
   this->AddControlVariateImage(settings, result);
+  return result;
+}
+
+template <typename TInputImage, typename TOutputImage>
+bool
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::StreamedPointCloudIsCurrent() const
+{
+  // Stale once a setting the points are drawn with, the sampler, the transfer function or anything upstream of the
+  // input is newer (the input's own time changes with every slab read: its source's is the one that counts).
+  const TInputImage * input = this->GetInput();
+  if (!m_PointCloud || !m_PointCloudStreamed || !input || !m_Sampler)
+  {
+    return false;
+  }
+  const ModifiedTimeType madeOf = std::max({ m_SamplingSettingsTime.GetMTime(),
+                                             m_Sampler->GetMTime(),
+                                             this->GetTransferFunction()->GetMTime(),
+                                             input->GetSource() ? input->GetPipelineMTime() : input->GetMTime() });
+  return madeOf <= m_PointCloudTime.GetMTime();
+}
+
+template <typename TInputImage, typename TOutputImage>
+bool
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::ReadsSlabsAtNextUpdate() const
+{
+  return !(m_ReusePoints && m_RefinementSamples == 0 && this->StreamedPointCloudIsCurrent());
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPointRenderer::Result
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamedKeptPoints(
+  const DRRPointRenderer::Settings & settings)
+{
+  if (!this->StreamedPointCloudIsCurrent())
+  {
+    m_PointCloud = nullptr; // free the old points before drawing new ones
+    m_StreamedControlVariate = nullptr;
+    this->RenderStreamed(settings, true);
+  }
+  if (!m_PointCloudWorkspace)
+  {
+    m_PointCloudWorkspace = DRRPointRenderer::MakeWorkspace();
+  }
+  const DRRPointProjection projection = this->MakeProjection(*this->MakeInputGrid());
+  DRRPointRenderer::Result result = DRRPointRenderer::Render(
+    *m_PointCloud, projection, settings, this->GetMultiThreader(), this, m_PointCloudWorkspace.get());
+  if (m_StreamedControlVariate)
+  {
+    m_StreamedControlVariate->AddCoarseImage(projection,
+                                             settings.Splat,
+                                             m_ControlVariateRaysPerSide,
+                                             settings.Seed,
+                                             this->GetMultiThreader(),
+                                             this,
+                                             result,
+                                             m_ComputeStandardError ? 2u : 1u);
+  }
   return result;
 }
 

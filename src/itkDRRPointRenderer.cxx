@@ -34,56 +34,6 @@ using namespace DRRRendering;
 
 namespace
 {
-/** Draws points into a cloud (no sums). */
-template <typename TKernel>
-class DrawChunksIntoCloud : public ChunkWorkBase
-{
-public:
-  DrawChunksIntoCloud(const PointDrawer<TKernel> & drawer, DRRPointCloud & cloud, const uint8_t * voxelChannels)
-    : m_Drawer(drawer), m_Cloud(cloud), m_VoxelChannels(voxelChannels)
-  {}
-  void
-  Run(uint64_t chunk, const Strata & strata, Worker & worker) const override
-  {
-    if (!worker.Scratch)
-    {
-      worker.Scratch.reset(new Batch);
-    }
-    Batch &   batch = *worker.Scratch;
-    float *   x = m_Cloud.GetX();
-    float *   y = m_Cloud.GetY();
-    float *   z = m_Cloud.GetZ();
-    float *   weights = m_Cloud.GetWeights();
-    uint8_t * stratum = m_Cloud.GetStrata();
-    uint8_t * channel = m_Cloud.GetChannels();
-    m_Drawer.DrawChunk(chunk, strata, batch, [&](uint64_t first, uint64_t count) {
-      for (uint64_t s = 0; s < count; ++s)
-      {
-        x[first + s] = static_cast<float>(batch.X[s]);
-        y[first + s] = static_cast<float>(batch.Y[s]);
-        z[first + s] = static_cast<float>(batch.Z[s]);
-      }
-      if (weights)
-      {
-        std::transform(batch.Weight, batch.Weight + count, weights + first, [](double w) { return float(w); });
-      }
-      if (stratum)
-      {
-        std::transform(batch.Stratum, batch.Stratum + count, stratum + first, [](uint32_t r) { return uint8_t(r); });
-      }
-      if (channel)
-      {
-        m_Drawer.VoxelChannels(count, batch, m_VoxelChannels, channel + first);
-      }
-    });
-  }
-
-private:
-  const PointDrawer<TKernel> & m_Drawer;
-  DRRPointCloud &              m_Cloud;
-  const uint8_t *              m_VoxelChannels;
-};
-
 /** A render of the points of a cloud. */
 template <typename TSplat>
 class SplatCloudChunks : public ChunkWorkBase

@@ -96,16 +96,22 @@ DRRStreamedPointRender::MakeSlabPlan(const DRRStratifiedSampler &               
 }
 
 DRRPointSampler::SampleRange
-DRRStreamedPointRender::GetRun() const
+DRRStreamedPointRender::MakeRun(const DRRPointRenderer::Settings & settings, const DRRSamplerTraits & traits)
 {
-  const Strata &               strata = m_State->RunStrata;
+  const Strata                 strata = MakeStrata(traits, settings);
   DRRPointSampler::SampleRange run;
-  run.Seed = m_State->Settings.Seed;
+  run.Seed = settings.Seed;
   run.Stratum = 0;
   run.StratumFirst = 0;
   run.StratumSize = strata.IsInterleaved() ? strata.GetNumberOfSamples() : strata.RunSize(0);
   run.NumberOfStrata = strata.IsInterleaved() ? strata.GetNumberOfStrata() : 1;
   return run;
+}
+
+DRRPointSampler::SampleRange
+DRRStreamedPointRender::GetRun() const
+{
+  return MakeRun(m_State->Settings, m_State->Traits);
 }
 
 void
@@ -148,6 +154,76 @@ DRRStreamedPointRender::AddSlab(const DRRSamplerViewPlan &    plan,
     });
   });
   state.Drawn += window[1] - window[0];
+}
+
+DRRPointCloud::Pointer
+DRRStreamedPointRender::MakeCloud(const DRRPointRenderer::Settings & settings,
+                                  const DRRSamplerTraits &           traits,
+                                  double                             maximumWeight,
+                                  const std::array<uint64_t, 3> &    wholeSize,
+                                  double                             sampledMass,
+                                  bool                               signedPoints)
+{
+  VerifyNumberOfSamples(settings);
+  const Strata               strata = MakeStrata(traits, settings);
+  DRRPointCloud::Description description;
+  description.NumberOfRequestedSamples = settings.NumberOfSamples;
+  description.NumberOfStrata = strata.GetNumberOfStrata();
+  description.InterleavedStrata = strata.IsInterleaved();
+  description.SampledMass = sampledMass;
+  description.MaximumWeight = maximumWeight;
+  description.Kernel = settings.Kernel;
+  const double reach = KernelReach(settings.Kernel);
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    description.SupportLower[a] = -reach;
+    description.SupportUpper[a] = static_cast<double>(wholeSize[a]) - 1.0 + reach;
+    description.VolumeSize[a] = wholeSize[a];
+  }
+  description.Seed = settings.Seed;
+  description.NumberOfChannels = 1;
+  auto cloud = DRRPointCloud::New();
+  if (!(sampledMass > 0.0))
+  {
+    cloud->Allocate(0, false, false, description); // all air: no points, zero images
+    return cloud;
+  }
+  cloud->Allocate(
+    strata.GetNumberOfSamples(), maximumWeight != 1.0 || signedPoints, strata.GetNumberOfStrata() > 1, description);
+  return cloud;
+}
+
+void
+DRRStreamedPointRender::DrawSlab(DRRPointCloud &                    cloud,
+                                 const DRRPointRenderer::Settings & settings,
+                                 const DRRSamplerViewPlan &         plan,
+                                 const DRRPointSampler &            sampler,
+                                 const std::array<uint64_t, 2>      window,
+                                 uint64_t                           firstPlane,
+                                 const DRRAttenuationVolume *       signedResidual,
+                                 MultiThreaderBase *                threader)
+{
+  const DRRSamplerTraits traits = sampler.GetTraits();
+  const Strata           strata = MakeStrata(traits, settings);
+  if (cloud.GetNumberOfPoints() != strata.GetNumberOfSamples() || window[0] > window[1] ||
+      window[1] > strata.GetNumberOfSamples() || firstPlane > std::numeric_limits<uint32_t>::max())
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: samples [" << window[0] << ", " << window[1] << ") or plane "
+                                                                 << firstPlane << " lie outside the cloud's run");
+  }
+  if (window[0] == window[1])
+  {
+    return;
+  }
+  const SlabWindow            slab{ window[0], window[1], static_cast<uint32_t>(firstPlane) };
+  DRRPointRenderer::Workspace workspace;
+  PrepareWorkers(workspace, strata, 1, 0, threader);
+  DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
+    const PointDrawer<decltype(kernel)>         drawer(sampler, plan, traits, settings.Seed, signedResidual, slab);
+    const DrawChunksIntoCloud<decltype(kernel)> work(drawer, cloud, nullptr);
+    RunChunks(work, strata, workspace, threader, nullptr, drawer.GetChunks(strata));
+    return 0;
+  });
 }
 
 uint64_t
