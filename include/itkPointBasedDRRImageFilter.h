@@ -248,6 +248,12 @@ public:
   void
   PrepareSampling();
 
+  /** F of a streamed render for the current view: ControlVariateFactor, or for AutomaticControlVariateFactor the
+   * view's choice (for ExpectedNumberOfPoses with kept points), at least MinimumStreamedAutomaticFactor (docs/design.md
+   * section 16). A caller that must fix `auto`'s choice at one view (pbdrr's batches, at view 0) sets it. */
+  unsigned int
+  ResolveStreamedControlVariateFactor() const;
+
   /** Progressive refinement: renders additionalSamples more points as an independent pass (its seed derived from
    * Seed and the pass number) and updates both outputs, through Update(), with the combined estimate: the mean of the
    * passes weighted by the points each drew, and its standard error. Works with every sampler. Throws if nothing was
@@ -345,10 +351,6 @@ protected:
    * control variate (F planes). */
   uint64_t
   GetSlabAlignment() const override;
-  /** F of a streamed render: ControlVariateFactor, or for AutomaticControlVariateFactor the view's choice, at least
-   * MinimumStreamedAutomaticFactor (see docs/design.md section 16). */
-  unsigned int
-  ResolveStreamedControlVariateFactor() const;
   /** One pass of a render streamed by slabs (docs/design.md section 16): a first pass over the slabs gathers the
    * masses along the sampler's curve (and the coarse volume), a second draws each slab's window of the samples into
    * the whole render's sums, or, keepPoints, into kept points of the whole volume (m_PointCloud, with the coarse volume

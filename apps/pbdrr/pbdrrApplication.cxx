@@ -334,6 +334,8 @@ DescribeMemory(const TVolume *            volume,
   return s.str();
 }
 
+} // namespace
+
 /** `--stream`: the CT's file opened, its header read, no voxel: the exact filter requests it slab by slab. A file whose
  * pixel type an int16 holds (8- or 16-bit signed, 8-bit unsigned) is read as int16 HU, any other as float, as
  * LoadVolume() reads it. A DICOM series (a directory) is refused: ITK reads a series whole. */
@@ -395,6 +397,10 @@ ChooseStreamSlabs(const Options & options)
   {
     return options.stream;
   }
+  if (IsBatch(options) && (options.exact || options.independentViews))
+  {
+    return 1; // a streamed batch keeps the points: these read the CT at every view (RunBatch() says so if asked)
+  }
   const uint64_t budget =
     options.memoryBudget ? *options.memoryBudget : itk::DRRMemoryBudget::GetDefaultBudgetInBytes();
   struct stat status;
@@ -431,6 +437,8 @@ ChooseStreamSlabs(const Options & options)
   return slabs;
 }
 
+namespace
+{
 /** Renders and writes the view of the options from a loaded volume (of its own pixel type: int16 HU or float). */
 template <typename TVolume>
 void

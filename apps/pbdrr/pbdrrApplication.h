@@ -47,6 +47,17 @@ struct Renderer
   typename PointFilterType<TVolume>::Pointer Points; ///< the same filter if it is point-based, else null (--exact)
 };
 
+/** `--stream`: the CT's file opened, its header read, no voxel: a filter requests it slab by slab. A file whose pixel
+ * type an int16 holds is read as int16 HU, any other as float, as LoadVolume() reads it; a DICOM series is refused. */
+LoadedVolume
+OpenStreamedVolume(const std::string & input);
+
+/** The slabs a run reads its CT in: --stream, or as many as --memory-budget (default: half the machine's memory)
+ * needs for a CT file (not DICOM) whose unstreamed render would hold more, if its settings can be streamed; 1
+ * otherwise (and for a batch of --exact or --independent-views views). Says on stderr when it streams unasked. */
+unsigned int
+ChooseStreamSlabs(const Options & options);
+
 /** Builds the renderer of the options (sampler, kernel, splat, control variate, or --exact) for volume. Instantiated
  * for HUVolumeType and VolumeType. */
 template <typename TVolume>

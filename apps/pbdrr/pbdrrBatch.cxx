@@ -556,9 +556,17 @@ MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume
   if (!options.independentViews && options.controlVariate == PointFilterType<TVolume>::AutomaticControlVariateFactor)
   {
     // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
-    // renders, so that the split, and so every view's image, is the same in every run and shard.
+    // renders, so that the split, and so every view's image, is the same in every run and shard. Streamed, the
+    // choice at view 0 is set (the volume is not read here).
     renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
-    renderer.Points->PrepareSampling();
+    if (options.stream > 1)
+    {
+      renderer.Points->SetControlVariateFactor(renderer.Points->ResolveStreamedControlVariateFactor());
+    }
+    else
+    {
+      renderer.Points->PrepareSampling();
+    }
   }
   return renderer;
 }
@@ -676,20 +684,25 @@ RenderViews(const Options &   options,
 void
 RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
 {
-  const double       loadStart = Now();
-  const LoadedVolume loaded = LoadVolume(options.input, options.seriesUID, {});
-  const double       loadSeconds = Now() - loadStart;
+  const double loadStart = Now();
+  // Streamed (--stream, or a CT over the memory budget): the points are drawn slab by slab at the first view and
+  // re-projected at every other, so each slab is read for all the views at once.
+  Options batchOptions = options;
+  batchOptions.stream = ChooseStreamSlabs(options);
+  const LoadedVolume loaded =
+    batchOptions.stream > 1 ? OpenStreamedVolume(options.input) : LoadVolume(options.input, options.seriesUID, {});
+  const double loadSeconds = Now() - loadStart;
   for (size_t n = 0; !options.quiet && n < loaded.Notes.size(); ++n)
   {
     std::cerr << "pbdrr: " << loaded.Notes[n] << std::endl;
   }
   if (loaded.HU)
   {
-    RenderViews(options, plan, progress, loadSeconds, loaded.HU.GetPointer());
+    RenderViews(batchOptions, plan, progress, loadSeconds, loaded.HU.GetPointer());
   }
   else
   {
-    RenderViews(options, plan, progress, loadSeconds, loaded.Image.GetPointer());
+    RenderViews(batchOptions, plan, progress, loadSeconds, loaded.Image.GetPointer());
   }
 }
 
@@ -699,6 +712,11 @@ RunBatch(const Options & options)
   // The options a batch, or a manifest, does not apply to (their declarations): --stderr, --label-channels, --kvp, ...
   CheckOptionsApply(options, options.manifest.empty() ? OptionModes::Batch : OptionModes::Manifest);
   CheckLabelOptions(options);
+  if (options.stream > 1 && (options.exact || options.independentViews))
+  {
+    throw UsageError(std::string("--stream in a batch draws the points once, slab by slab, for every view; ") +
+                     (options.exact ? "--exact" : "--independent-views") + " would read the CT again at every view");
+  }
   if (!options.manifest.empty())
   {
     RunManifest(options);

@@ -248,6 +248,8 @@ OptionsThatShapeNoView()
 const std::string BatchOnlyOption = "for a batch of views";
 const std::string NoMatrixInABatch = "--projection-matrix and --geometry-from give one view";
 const std::string NoSweepOverANormal = "a sweep would replace";
+const std::string StreamedExactBatch = "--stream in a batch draws the points once, slab by slab, for every view; "
+                                       "--exact would read the CT again at every view";
 
 /** The table: each option that shapes a view or the estimate, in the modes that take it. */
 std::vector<ViewModeCase>
@@ -337,20 +339,23 @@ ViewModeCases()
     { "stream",
       with(with(exact, small), { "--stream", "3" }),
       Render::Exact,
-      batchesRefuse("--stream renders one view \\(a batch does not stream yet\\)"),
+      { { Mode::Angles, StreamedExactBatch },
+        { Mode::Views, StreamedExactBatch },
+        { Mode::ViewIndex, StreamedExactBatch },
+        { Mode::Manifest, "--stream reads one volume" } },
       with(exact, small) },
     // The stratified sampler's points streamed: the same points, the same bits (a control variate of F 4, which `auto`
-    // never goes below when streaming).
+    // never goes below when streaming); a batch draws them slab by slab once and re-projects them at every view.
     { "stream_points",
       with(with(points, small), { "--stream", "2", "--control-variate", "4" }),
       Render::Points,
-      batchesRefuse("--stream renders one view \\(a batch does not stream yet\\)"),
+      { { Mode::Manifest, "--stream reads one volume" } },
       with(with(points, small), { "--control-variate", "4" }) },
     // A budget below the render's bytes streams it unasked: the same bits.
     { "memory_budget",
       with(with(points, small), { "--memory-budget", "2K", "--control-variate", "4" }),
       Render::Points,
-      batchesRefuse("--memory-budget applies to one view \\(a batch does not stream yet\\)"),
+      { { Mode::Manifest, "--memory-budget applies to one volume" } },
       with(with(points, small), { "--control-variate", "4" }) },
     { "stderr",
       with(with(points, small), { "--stderr", Input("se_%d.mha") }),
