@@ -86,9 +86,9 @@ public:
           const DRRAttenuationVolume *  signedResidual);
 
   /** Points kept for many views (PointBasedDRRImageFilter::SetReusePoints()), drawn slab by slab: a cloud sized for
-   * the whole run of settings, described as DRRPointRenderer::Draw() describes the whole volume's (wholeSize voxels,
-   * sampledMass mm^2), whose points the slabs then draw (DrawSlab()). signedPoints: a control variate's residual (the
-   * cloud keeps the weights' signs). */
+   * the whole run of settings (with a channel per point for settings' channels), described as the whole volume's
+   * (wholeSize voxels, sampledMass mm^2), whose points the slabs then draw (DrawSlab()). signedPoints: a control
+   * variate's residual (the cloud keeps the weights' signs). DRRPointRenderer::Draw() is the draw of one slab. */
   static DRRPointCloud::Pointer
   MakeCloud(const DRRPointRenderer::Settings & settings,
             const DRRSamplerTraits &           traits,
@@ -98,7 +98,8 @@ public:
             bool                               signedPoints);
 
   /** Draws the samples [window[0], window[1]) of a cloud's run (MakeCloud()) from the plan of a sampler initialized on
-   * a slab whose first z plane is firstPlane of the whole volume: the points DRRPointRenderer::Draw() puts there. */
+   * a slab whose first z plane is firstPlane of the whole volume (settings' signed residual and voxel channels are the
+   * slab's): the points a draw of the whole volume puts there. Progress goes to progressFilter (may be null). */
   static void
   DrawSlab(DRRPointCloud &                    cloud,
            const DRRPointRenderer::Settings & settings,
@@ -106,8 +107,8 @@ public:
            const DRRPointSampler &            sampler,
            const std::array<uint64_t, 2>      window,
            uint64_t                           firstPlane,
-           const DRRAttenuationVolume *       signedResidual,
-           MultiThreaderBase *                threader);
+           MultiThreaderBase *                threader,
+           ProcessObject *                    progressFilter);
 
   /** The samples the slabs have drawn so far. */
   uint64_t

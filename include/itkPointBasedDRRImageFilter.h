@@ -339,6 +339,13 @@ protected:
   /** Adds the control variate's coarse image for the current pose to a render of the residual (no-op without one). */
   void
   AddControlVariateImage(const DRRPointRenderer::Settings & settings, DRRPointRenderer::Result & result);
+  /** Adds the coarse image of a control variate (the filter's, or a streamed render's) for projection, with the
+   * settings' splat and seed, the filter's rays per side and one replicate unless a standard error is computed. */
+  void
+  AddCoarseImage(const DRRControlVariate &          controlVariate,
+                 const DRRPointProjection &         projection,
+                 const DRRPointRenderer::Settings & settings,
+                 DRRPointRenderer::Result &         result);
   /** The base's checks (the input is set), then VerifySettings() with the number of samples of the coming pass. */
   void
   VerifyPreconditions() const override;

@@ -146,15 +146,25 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::AddControlVariateImage(cons
 {
   if (m_ControlVariate)
   {
-    m_ControlVariate->AddCoarseImage(this->MakeProjection(),
-                                     settings.Splat,
-                                     m_ControlVariateRaysPerSide,
-                                     settings.Seed,
-                                     this->GetMultiThreader(),
-                                     this,
-                                     result,
-                                     m_ComputeStandardError ? 2u : 1u);
+    this->AddCoarseImage(*m_ControlVariate, this->MakeProjection(), settings, result);
   }
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::AddCoarseImage(const DRRControlVariate &          controlVariate,
+                                                                    const DRRPointProjection &         projection,
+                                                                    const DRRPointRenderer::Settings & settings,
+                                                                    DRRPointRenderer::Result &         result)
+{
+  controlVariate.AddCoarseImage(projection,
+                                settings.Splat,
+                                m_ControlVariateRaysPerSide,
+                                settings.Seed,
+                                this->GetMultiThreader(),
+                                this,
+                                result,
+                                m_ComputeStandardError ? 2u : 1u);
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -361,8 +371,10 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
       const DRRAttenuationVolume * residual = slabControlVariate ? &slabControlVariate->GetResidualVolume() : nullptr;
       if (keepPoints)
       {
+        DRRPointRenderer::Settings slabSettings = settings;
+        slabSettings.SignedResidual = residual;
         DRRStreamedPointRender::DrawSlab(
-          *cloud, settings, *plan, *sampler, window, placement.FirstPlane, residual, threader);
+          *cloud, slabSettings, *plan, *sampler, window, placement.FirstPlane, threader, nullptr);
       }
       else
       {
@@ -391,14 +403,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(const DRRPoi
     render->Finish(sampledTotal * grid->GetVoxelVolume(), viewMass * grid->GetVoxelVolume());
   if (controlVariate)
   {
-    controlVariate->AddCoarseImage(projection,
-                                   settings.Splat,
-                                   m_ControlVariateRaysPerSide,
-                                   settings.Seed,
-                                   threader,
-                                   this,
-                                   result,
-                                   m_ComputeStandardError ? 2u : 1u);
+    this->AddCoarseImage(*controlVariate, projection, settings, result);
   }
   return result;
 }
@@ -610,14 +615,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderStreamedKeptPoints(
     *m_PointCloud, projection, settings, this->GetMultiThreader(), this, m_PointCloudWorkspace.get());
   if (m_StreamedControlVariate)
   {
-    m_StreamedControlVariate->AddCoarseImage(projection,
-                                             settings.Splat,
-                                             m_ControlVariateRaysPerSide,
-                                             settings.Seed,
-                                             this->GetMultiThreader(),
-                                             this,
-                                             result,
-                                             m_ComputeStandardError ? 2u : 1u);
+    this->AddCoarseImage(*m_StreamedControlVariate, projection, settings, result);
   }
   return result;
 }

@@ -24,6 +24,7 @@
 #include "itkDRRRenderPlan.h"
 #include "itkDRRRenderReduction.h"
 #include "itkDRRRenderWorkers.h"
+#include "itkDRRStreamedPointRender.h"
 
 #include <algorithm>
 #include <memory>
@@ -105,12 +106,7 @@ DRRPointRenderer::ComputeKernelSupport(const DRRAttenuationVolume & volume,
                                        std::array<double, 3> &      lower,
                                        std::array<double, 3> &      upper)
 {
-  const double reach = KernelReach(kernel);
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    lower[a] = -reach;
-    upper[a] = static_cast<double>(volume.GetSize()[a]) - 1.0 + reach;
-  }
+  KernelSupport(kernel, { { volume.GetSize()[0], volume.GetSize()[1], volume.GetSize()[2] } }, lower, upper);
 }
 
 DRRPointRenderer::Result
@@ -181,39 +177,20 @@ DRRPointRenderer::Draw(const DRRAttenuationVolume & volume,
 {
   VerifyNumberOfSamples(settings);
   VerifyChannels(settings);
-  // Every pose: the whole volume.
+  // Every pose: the whole volume, drawn as the one slab of a streamed draw.
   const DRRPointSampler::ViewPlanConstPointer plan = sampler.MakeViewPlan(volume, nullptr, 0.0, 0.0);
-  const DRRSamplerTraits                      traits = sampler.GetTraits();
-  const Strata                                strata = MakeStrata(traits, settings);
-  DRRPointCloud::Description                  description;
-  description.NumberOfRequestedSamples = settings.NumberOfSamples;
-  description.NumberOfStrata = strata.GetNumberOfStrata();
-  description.InterleavedStrata = strata.IsInterleaved();
-  description.SampledMass = plan->GetSampledMass();
-  description.MaximumWeight = sampler.GetMaximumWeight();
-  description.Kernel = settings.Kernel;
-  ComputeKernelSupport(volume, settings.Kernel, description.SupportLower, description.SupportUpper);
-  description.VolumeSize = { volume.GetSize()[0], volume.GetSize()[1], volume.GetSize()[2] };
-  description.Seed = settings.Seed;
-  description.NumberOfChannels = settings.NumberOfChannels;
-  auto cloud = DRRPointCloud::New();
-  if (!(description.SampledMass > 0.0))
+  const auto                                  cloud =
+    DRRStreamedPointRender::MakeCloud(settings,
+                                      sampler.GetTraits(),
+                                      sampler.GetMaximumWeight(),
+                                      { { volume.GetSize()[0], volume.GetSize()[1], volume.GetSize()[2] } },
+                                      plan->GetSampledMass(),
+                                      settings.SignedResidual != nullptr);
+  if (cloud->GetNumberOfPoints() > 0) // none for all air
   {
-    cloud->Allocate(0, false, false, description); // all air: no points, zero images
-    return cloud;
+    DRRStreamedPointRender::DrawSlab(
+      *cloud, settings, *plan, sampler, { { 0, cloud->GetNumberOfPoints() } }, 0, threader, progressFilter);
   }
-  cloud->Allocate(strata.GetNumberOfSamples(),
-                  sampler.GetMaximumWeight() != 1.0 || settings.SignedResidual != nullptr,
-                  strata.GetNumberOfStrata() > 1,
-                  description);
-  Workspace workspace;
-  PrepareWorkers(workspace, strata, 1, 0, threader);
-  DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
-    const PointDrawer<decltype(kernel)>         drawer(sampler, *plan, traits, settings.Seed, settings.SignedResidual);
-    const DrawChunksIntoCloud<decltype(kernel)> work(drawer, *cloud, settings.VoxelChannels);
-    RunChunks(work, strata, workspace, threader, progressFilter);
-    return 0;
-  });
   return cloud;
 }
 

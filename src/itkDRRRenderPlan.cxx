@@ -144,6 +144,20 @@ ZeroResult(const DRRPointProjection & projection, unsigned int numberOfChannels)
   return result;
 }
 
+void
+KernelSupport(PointBasedDRREnums::ReconstructionKernel kernel,
+              const std::array<uint64_t, 3> &          size,
+              std::array<double, 3> &                  lower,
+              std::array<double, 3> &                  upper)
+{
+  const double reach = KernelReach(kernel);
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    lower[a] = -reach;
+    upper[a] = static_cast<double>(size[a]) - 1.0 + reach;
+  }
+}
+
 double
 KernelReach(PointBasedDRREnums::ReconstructionKernel kernel)
 {

@@ -132,6 +132,13 @@ VerifyChannels(const DRRPointRenderer::Settings & settings);
 DRRPointRenderer::Result
 ZeroResult(const DRRPointProjection & projection, unsigned int numberOfChannels = 1);
 
+/** The continuous-index box [lower, upper] the kernel's points reach in a volume of size voxels per axis. */
+void
+KernelSupport(PointBasedDRREnums::ReconstructionKernel kernel,
+              const std::array<uint64_t, 3> &          size,
+              std::array<double, 3> &                  lower,
+              std::array<double, 3> &                  upper);
+
 /** How far from its voxel centre the kernel moves a point, voxels. */
 double
 KernelReach(PointBasedDRREnums::ReconstructionKernel kernel);

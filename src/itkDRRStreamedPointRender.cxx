@@ -66,14 +66,9 @@ DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings 
   state.Traits = traits;
   state.Threader = threader;
   state.Result = ZeroResult(projection);
-  // The box the kernel's points reach in the whole volume (DRRPointRenderer::ComputeKernelSupport()).
-  const double          reach = KernelReach(settings.Kernel);
+  // The box the kernel's points reach in the whole volume.
   std::array<double, 3> lower, upper;
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    lower[a] = -reach;
-    upper[a] = static_cast<double>(wholeSize[a]) - 1.0 + reach;
-  }
+  KernelSupport(settings.Kernel, wholeSize, lower, upper);
   state.Scales = PlanFixedPoint(static_cast<double>(state.RunStrata.GetNumberOfSamples()),
                                 maximumWeight,
                                 lower,
@@ -173,15 +168,13 @@ DRRStreamedPointRender::MakeCloud(const DRRPointRenderer::Settings & settings,
   description.SampledMass = sampledMass;
   description.MaximumWeight = maximumWeight;
   description.Kernel = settings.Kernel;
-  const double reach = KernelReach(settings.Kernel);
+  KernelSupport(settings.Kernel, wholeSize, description.SupportLower, description.SupportUpper);
   for (unsigned int a = 0; a < 3; ++a)
   {
-    description.SupportLower[a] = -reach;
-    description.SupportUpper[a] = static_cast<double>(wholeSize[a]) - 1.0 + reach;
     description.VolumeSize[a] = wholeSize[a];
   }
   description.Seed = settings.Seed;
-  description.NumberOfChannels = 1;
+  description.NumberOfChannels = settings.NumberOfChannels;
   auto cloud = DRRPointCloud::New();
   if (!(sampledMass > 0.0))
   {
@@ -200,8 +193,8 @@ DRRStreamedPointRender::DrawSlab(DRRPointCloud &                    cloud,
                                  const DRRPointSampler &            sampler,
                                  const std::array<uint64_t, 2>      window,
                                  uint64_t                           firstPlane,
-                                 const DRRAttenuationVolume *       signedResidual,
-                                 MultiThreaderBase *                threader)
+                                 MultiThreaderBase *                threader,
+                                 ProcessObject *                    progressFilter)
 {
   const DRRSamplerTraits traits = sampler.GetTraits();
   const Strata           strata = MakeStrata(traits, settings);
@@ -219,9 +212,9 @@ DRRStreamedPointRender::DrawSlab(DRRPointCloud &                    cloud,
   DRRPointRenderer::Workspace workspace;
   PrepareWorkers(workspace, strata, 1, 0, threader);
   DRRPolicies::Kernels::Visit(settings.Kernel, [&](auto kernel) {
-    const PointDrawer<decltype(kernel)>         drawer(sampler, plan, traits, settings.Seed, signedResidual, slab);
-    const DrawChunksIntoCloud<decltype(kernel)> work(drawer, cloud, nullptr);
-    RunChunks(work, strata, workspace, threader, nullptr, drawer.GetChunks(strata));
+    const PointDrawer<decltype(kernel)> drawer(sampler, plan, traits, settings.Seed, settings.SignedResidual, slab);
+    const DrawChunksIntoCloud<decltype(kernel)> work(drawer, cloud, settings.VoxelChannels);
+    RunChunks(work, strata, workspace, threader, progressFilter, drawer.GetChunks(strata));
     return 0;
   });
 }
