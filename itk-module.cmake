@@ -11,6 +11,8 @@ itk_module(PointBasedDRR
     ITKOptimizers
   COMPILE_DEPENDS
     ITKImageFunction
+  PRIVATE_DEPENDS
+    ITKIOXML
   TEST_DEPENDS
     ITKTestKernel
     ITKGoogleTest

@@ -46,11 +46,12 @@ namespace itk
  * the projections after it, a value inside one carries over to the next ones (RTK never resets them), and each
  * projection's stored `Matrix` must match the one computed from its parameters to 0.001 (RTK's tolerance). It refuses
  * with an ExceptionObject naming the file, the projection (counted from 0) and the element: a file that is not
- * well-formed XML (or is truncated), another root, a version other than 2 or 3, no projection, a projection without
- * GantryAngle or Matrix, a value that is not a finite number, a negative SourceToDetectorDistance, a
- * SourceToIsocenterDistance that is not positive, parallel and divergent views mixed (as RTK does), a cylindrical
- * detector or a collimation (which DRRProjectionGeometry cannot express). SourceToDetectorDistance 0 is RTK's parallel
- * beam.
+ * well-formed XML (or is truncated; ITK's DOMNodeXMLReader parses it with expat, and an error names the open element
+ * by its path, /RTKThreeDCircularGeometry/Projection[2]/Matrix[1]), another root, a version other than 2 or 3, no
+ * projection, a projection without GantryAngle or Matrix, a value that is not a finite number, a negative
+ * SourceToDetectorDistance, a SourceToIsocenterDistance that is not positive, parallel and divergent views mixed (as
+ * RTK does), a cylindrical detector or a collimation (which DRRProjectionGeometry cannot express).
+ * SourceToDetectorDistance 0 is RTK's parallel beam.
  *
  * Writing decomposes each view into RTK's parameters and writes the Matrix as RTK computes it, values shared by all
  * views once (as RTK's writer does), every number with 17 significant digits: the file reads back to the same

@@ -59,6 +59,11 @@ def itk_headers(source, build):
     return headers
 
 
+# itk_module()'s keywords (ITK's ITKModuleMacros.cmake): a module's name may be all capitals too (ITKIOXML).
+KEYWORDS = {"DEPENDS", "PRIVATE_DEPENDS", "COMPILE_DEPENDS", "TEST_DEPENDS", "DESCRIPTION", "EXCLUDE_FROM_DEFAULT",
+            "ENABLE_SHARED", "FACTORY_NAMES", "TEST_OUTPUT_DIR"}
+
+
 def declared_modules():
     """The lists of itk-module.cmake's itk_module() call: {keyword: [modules]}."""
     with open(os.path.join(ROOT, "itk-module.cmake"), encoding="utf-8") as f:
@@ -67,7 +72,7 @@ def declared_modules():
     lists = {}
     keyword = None
     for word in call.split()[1:]:
-        if re.fullmatch(r"[A-Z_]+", word):
+        if word in KEYWORDS:
             keyword = word
             lists.setdefault(keyword, [])
         elif keyword and word.startswith("ITK"):

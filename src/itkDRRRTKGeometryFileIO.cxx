@@ -16,7 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRRTKGeometryFileIO.h"
-#include "itkDRRXMLSubsetParser.h"
+#include "itkDRRDOMNodeXMLReader.h"
 #include "itkDRRNumberParser.h"
 #include "itkEuler3DTransform.h"
 
@@ -31,7 +31,8 @@
 #include <limits>
 #include <sstream>
 
-// The XML is parsed by DRRXMLSubsetParser (src/itkDRRXMLSubsetParser.h), not by ITKIOXML: see there why.
+// The XML is parsed by ITK's DOMNodeXMLReader (ITKIOXML, expat), as RTK's own reader parses it with expat, through
+// DRRDOMNodeXMLReader (src/itkDRRDOMNodeXMLReader.h), which adds what ITK's reader leaves out.
 
 namespace itk
 {
@@ -412,26 +413,18 @@ DRRRTKGeometryFileIO::ReadFromStream(std::istream & stream, const std::string & 
   {
     ThrowRTKError(where + "read error");
   }
-  DRRXMLSubsetParser                parser(text, "DRRRTKGeometryFileIO: " + where);
-  const DRRXMLSubsetParser::Element root = parser.Parse();
-  if (root.Name != "RTKThreeDCircularGeometry")
+  const auto reader = DRRDOMNodeXMLReader::New();
+  reader->Parse(text, "DRRRTKGeometryFileIO: " + where);
+  const DOMNode & root = *reader->GetOutput();
+  if (root.GetName() != "RTKThreeDCircularGeometry")
   {
-    ThrowRTKError(where + "the root element is <" + root.Name + ">, not RTK's <RTKThreeDCircularGeometry>");
+    ThrowRTKError(where + "the root element is <" + root.GetName() + ">, not RTK's <RTKThreeDCircularGeometry>");
   }
-  std::string version;
-  bool        hasVersion = false;
-  for (const auto & attribute : root.Attributes)
-  {
-    if (attribute.first == "version")
-    {
-      version = attribute.second;
-      hasVersion = true;
-    }
-  }
-  if (!hasVersion)
+  if (!root.HasAttribute("version"))
   {
     ThrowRTKError(where + "<RTKThreeDCircularGeometry> has no version attribute");
   }
+  const std::string version = root.GetAttribute("version");
   // RTK's reader (CurrentVersion 3) reads versions 3 and 2.
   if (version != "3" && version != "2")
   {
@@ -474,8 +467,8 @@ DRRRTKGeometryFileIO::ReadFromStream(std::istream & stream, const std::string & 
   ReaderValue        state[KeyCount];
 
   // Parses a parameter element into the state; false if the element is not one (ignored, as RTK's reader does).
-  const auto readParameter = [&](const DRRXMLSubsetParser::Element & element, const std::string & context) -> bool {
-    std::string name = Lower(element.Name);
+  const auto readParameter = [&](const DOMNode & element, const std::string & context) -> bool {
+    std::string name = Lower(element.GetName());
     if (name == "angle") // RTK's older name of GantryAngle
     {
       name = "gantryangle";
@@ -484,15 +477,14 @@ DRRRTKGeometryFileIO::ReadFromStream(std::istream & stream, const std::string & 
     {
       if (name == Lower(names[k]))
       {
-        std::string value = element.Text;
+        std::string value = DRRDOMNodeXMLReader::GetText(element);
         const auto  notSpace = [](unsigned char c) { return !std::isspace(c); };
         value.erase(value.begin(), std::find_if(value.begin(), value.end(), notSpace));
         value.erase(std::find_if(value.rbegin(), value.rend(), notSpace).base(), value.end());
         double number = 0.0;
         if (!DRRNumberParser::ParseFiniteNumber(value, number))
         {
-          ThrowRTKError(where + context + "line " + std::to_string(element.Line) + ": <" + element.Name + "> '" +
-                        value + "' is not a finite number");
+          ThrowRTKError(where + context + "<" + element.GetName() + "> '" + value + "' is not a finite number");
         }
         state[k].Value = number;
         state[k].Given = true;
@@ -504,24 +496,23 @@ DRRRTKGeometryFileIO::ReadFromStream(std::istream & stream, const std::string & 
 
   GeometryListType geometries;
   bool             parallelSeen = false;
-  for (const auto & child : root.Children)
+  for (const DOMNode * child : DRRDOMNodeXMLReader::GetElements(root))
   {
-    if (Lower(child.Name) != "projection")
+    if (Lower(child->GetName()) != "projection")
     {
-      readParameter(child, std::string());
+      readParameter(*child, std::string());
       continue;
     }
     const size_t      index = geometries.size();
-    const std::string context =
-      "projection " + std::to_string(index) + " (line " + std::to_string(child.Line) + ", counted from 0): ";
-    bool          gantryHere = false;
-    bool          matrixHere = false;
-    RTKMatrixType stored;
-    for (const auto & element : child.Children)
+    const std::string context = "projection " + std::to_string(index) + " (counted from 0): ";
+    bool              gantryHere = false;
+    bool              matrixHere = false;
+    RTKMatrixType     stored;
+    for (const DOMNode * element : DRRDOMNodeXMLReader::GetElements(*child))
     {
-      if (Lower(element.Name) == "matrix")
+      if (Lower(element->GetName()) == "matrix")
       {
-        std::istringstream  tokens(element.Text);
+        std::istringstream  tokens(DRRDOMNodeXMLReader::GetText(*element));
         std::vector<double> entries;
         for (std::string token; tokens >> token;)
         {
@@ -543,9 +534,9 @@ DRRRTKGeometryFileIO::ReadFromStream(std::istream & stream, const std::string & 
         }
         matrixHere = true;
       }
-      else if (readParameter(element, context))
+      else if (readParameter(*element, context))
       {
-        const std::string name = Lower(element.Name);
+        const std::string name = Lower(element->GetName());
         gantryHere = gantryHere || name == "gantryangle" || name == "angle";
       }
     }

@@ -747,6 +747,22 @@ OneView(const std::string & from = "", const std::string & to = "")
   return xml;
 }
 
+/** Elements nested depth deep: <n><n>...</n></n> (an unknown element, ignored where it is not too deep). */
+std::string
+Nested(unsigned int depth)
+{
+  std::string xml;
+  for (unsigned int i = 0; i < depth; ++i)
+  {
+    xml += "<n>";
+  }
+  for (unsigned int i = 0; i < depth; ++i)
+  {
+    xml += "</n>";
+  }
+  return xml;
+}
+
 // Bad input: each a clear itk::ExceptionObject naming the problem (and the projection), never a crash.
 TEST(DRRRTKGeometryFileIO, BadInput)
 {
@@ -768,7 +784,7 @@ TEST(DRRRTKGeometryFileIO, BadInput)
   noMatrix.replace(noMatrix.find("</Matrix>", noMatrix.find("<Matrice>")), 9, "</Matrice>");
   const Case cases[] = {
     { "", { "no root element", "" } },
-    { "hello, world\n", { "not an XML document", "line 1" } },
+    { "hello, world\n", { "not an XML document", "expat: syntax error" } },
     { "\x89PNG\r\n\x1a\n", { "not an XML document", "" } },
     { valid.substr(0, valid.size() / 2), { "truncated", "" } },
     { valid.substr(0, valid.size() - 3), { "truncated", "" } },
@@ -796,12 +812,16 @@ TEST(DRRRTKGeometryFileIO, BadInput)
     { OneView("<Matrix>\n      ", "<Matrix>\n      nan "), { "projection 1", "<Matrix> entry 'nan'" } },
     { OneView("<Matrix>\n      ", "<Matrix>\n      1 "), { "projection 1", "<Matrix> has 13 numbers" } },
     { OneView("<GantryAngle>60<", "<GantryAngle>60.01<"), { "projection 1", "is not the" } },
-    { OneView("</Matrix>", "</Matrixx>"), { "</Matrixx> closes <Matrix>", "line" } },
-    { OneView("<GantryAngle>60<", "<GantryAngle>&foo;60<"), { "unsupported entity", "" } },
+    { OneView("</Matrix>", "</Matrixx>"),
+      { "mismatched tag", "in /RTKThreeDCircularGeometry/Projection[2]/Matrix[1]" } },
+    { OneView("<GantryAngle>60<", "<GantryAngle>&foo;60<"),
+      { "undefined entity", "in /RTKThreeDCircularGeometry/Projection[2]/GantryAngle[1]" } },
+    // Depth 2 + 31: one deeper than DRRDOMNodeXMLReader::GetMaximumDepth() (RTKReaderRules reads depth 32).
+    { OneView("<Matrix>", Nested(31) + "<Matrix>"), { "nested more than 32 deep", "" } },
     { OneView("<Matrix>", "<RadiusCylindricalDetector>1536</RadiusCylindricalDetector><Matrix>"),
       { "projection 1", "cylindrical detector" } },
     { OneView("<Matrix>", "<CollimationUInf>20</CollimationUInf><Matrix>"), { "projection 1", "CollimationUInf" } },
-    { OneView("<Projection>", "<Projection a>"), { "attribute 'a'", "" } },
+    { OneView("<Projection>", "<Projection a>"), { "not well-formed (invalid token)", "" } },
   };
   for (const auto & c : cases)
   {
@@ -850,8 +870,8 @@ TEST(DRRRTKGeometryFileIO, RTKReaderRules)
   std::ostringstream xml;
   xml << "<?xml version='1.0'?><!-- a comment --><RTKThreeDCircularGeometry version='2'>"
       << "<sourcetoisocenterdistance> 900 </sourcetoisocenterdistance><SourceToDetectorDistance>1400"
-      << "</SourceToDetectorDistance><Unknown>x</Unknown>"
-      << "<Projection><Angle>30</Angle><Matrix>" << matrixText(p0) << "</Matrix></Projection>"
+      << "</SourceToDetectorDistance><Unknown>x</Unknown>" << Nested(31) << "<Projection><Angle>30</Angle><Matrix>"
+      << matrixText(p0) << "</Matrix></Projection>"
       << "<Projection><GantryAngle>45</GantryAngle><ProjectionOffsetX>5</ProjectionOffsetX><Matrix>" << matrixText(p1)
       << "</Matrix></Projection>"
       << "<Projection><GantryAngle>5&#48;</GantryAngle><Matrix>" << matrixText(p2) << "</Matrix></Projection>"
