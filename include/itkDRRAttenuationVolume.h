@@ -117,10 +117,12 @@ public:
    * for a negative or non-finite mu. The index-to-physical mapping is left as it was. */
   void
   BuildFromMu(const SizeType & size, const MuFunctionType & fill, MultiThreaderBase * threader);
+#if !defined(ITK_WRAPPING_PARSER)
   /** The same from a buffer of mu (1/mm) per voxel already filled (size's voxels, x fastest), which the volume takes:
-   * no copy. */
+   * no copy. Not wrapped: SWIG passes arguments by copy, and a std::unique_ptr cannot be copied. */
   void
   BuildFromMu(const SizeType & size, std::unique_ptr<float[]> mu, MultiThreaderBase * threader);
+#endif
 
   /** Makes this volume the residual of a control variate: |mu_v - mu_c(block of v)| (1/mm) on the grid of fine padded
    * to a multiple of factor per axis (the padding is air in fine), where coarse holds the block means mu_c, one voxel
