@@ -48,7 +48,6 @@ DRRDOMNodeXMLReader::Parse(const std::string & text, const std::string & where)
   m_DepthBeyondMaximum = 0;
   m_TooDeep = false;
   m_RootName.clear();
-  m_RootEnded = false;
   std::istringstream stream(text);
   try
   {
@@ -62,12 +61,11 @@ DRRDOMNodeXMLReader::Parse(const std::string & text, const std::string & where)
     {
       ThrowXMLError(where, "not an XML document" + expat);
     }
-    if (m_RootEnded)
+    if (m_Open.empty()) // the root element ended: the root is open until then (it is never beyond the maximum depth)
     {
       ThrowXMLError(where, "not well-formed XML: content after the root element <" + m_RootName + ">" + expat);
     }
-    ThrowXMLError(where,
-                  "not well-formed XML" + expat + (m_Open.empty() ? std::string() : " in " + m_Open.back().Path));
+    ThrowXMLError(where, "not well-formed XML" + expat + " in " + m_Open.back().Path);
   }
   if (m_RootName.empty())
   {
@@ -151,7 +149,6 @@ DRRDOMNodeXMLReader::EndElement(const char * name)
   }
   this->KeepText();
   m_Open.pop_back();
-  m_RootEnded = m_Open.empty();
   Superclass::EndElement(name);
 }
 

@@ -109,7 +109,6 @@ private:
   unsigned int             m_DepthBeyondMaximum{ 0 };
   bool                     m_TooDeep{ false };
   std::string              m_RootName;
-  bool                     m_RootEnded{ false };
 };
 } // namespace itk
 
