@@ -9,6 +9,7 @@ itk_module(PointBasedDRR
     ITKTransform
     ITKImageGrid
     ITKOptimizers
+    ITKOptimizersv4
   COMPILE_DEPENDS
     ITKImageFunction
   PRIVATE_DEPENDS

@@ -18,6 +18,7 @@
 #ifndef itkDRRImageSimilarity_h
 #define itkDRRImageSimilarity_h
 
+#include "itkPointBasedDRREnums.h"
 #include "PointBasedDRRExport.h"
 
 #include <cstddef>
@@ -37,7 +38,13 @@ namespace itk
  *   the rows and along the columns: edges only, blind to the smooth content an X-ray has and a CT's DRR lacks (a table
  *   outside the CT's field, scatter, a heel effect).
  *
- * GetMetricNames() is the one list of the names: pbdrr register's help and parsing are derived from it.
+ * GetMetricNames() is the one list of the names, in the order of PointBasedDRREnums::Similarity: pbdrr register's help
+ * and parsing are derived from it.
+ *
+ * EvaluateWithDerivative() also gives dS/da_p, the derivative with respect to every pixel of the DRR, in closed form:
+ * for the NCC r = sum a'b' / sqrt(sum a'^2 sum b'^2) (a', b': minus their means over the field), dr/da_p =
+ * b'_p / sqrt(sum a'^2 sum b'^2) - r a'_p / sum a'^2 on the field, 0 off it (the means' terms add up to 0); for the
+ * gradient correlation, the same through the differences' adjoint. PointBasedDRRMetricv4 reads it at every kept point.
  *
  * Images are row-major buffers of columns x rows pixels; a mask holds 1 for a counted pixel, 0 otherwise.
  *
@@ -47,9 +54,21 @@ namespace itk
 class PointBasedDRR_EXPORT DRRImageSimilarity
 {
 public:
-  /** The metric names, in the order of their documentation: "ncc", "gc". */
+  /** NormalizedCorrelation or GradientCorrelation. */
+  using SimilarityEnum = PointBasedDRREnums::Similarity;
+
+  /** The metric names, in the order of PointBasedDRREnums::Similarity: "ncc", "gc". */
   static const std::vector<std::string> &
   GetMetricNames();
+
+  /** The similarity called name (one of GetMetricNames()). Throws itk::ExceptionObject, listing the names, for another.
+   */
+  static SimilarityEnum
+  FromName(const std::string & name);
+
+  /** The name of similarity ("ncc" or "gc"). */
+  static const std::string &
+  GetName(SimilarityEnum similarity);
 
   /** True if name is one of GetMetricNames(). */
   static bool
@@ -78,6 +97,18 @@ public:
            const float *                b,
            const std::vector<uint8_t> & mask,
            size_t                       columns);
+
+  /** The similarity of a (a DRR, in double) and b (an X-ray), columns wide, over the mask (the same value as
+   * Evaluate() up to rounding), and, unless derivative is null, its derivative with respect to every pixel of a:
+   * derivative[p] = dS/da_p (mask.size() values; 0 for pixels that do not count). A constant image, or fewer than 2
+   * pixels, gives 0 and a zero derivative: never NaN. */
+  static double
+  EvaluateWithDerivative(SimilarityEnum               similarity,
+                         const double *               a,
+                         const float *                b,
+                         const std::vector<uint8_t> & mask,
+                         size_t                       columns,
+                         double *                     derivative);
 };
 } // namespace itk
 

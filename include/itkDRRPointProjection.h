@@ -295,6 +295,9 @@ public:
   }
 
 private:
+  /** The backward pass differentiates the projection above point by point, from its coefficients. */
+  friend class DRRPointPoseGradient;
+
   bool         m_Perspective;
   bool         m_MagnifiesRows;
   unsigned int m_Columns;

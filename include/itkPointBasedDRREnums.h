@@ -114,6 +114,17 @@ public:
     /** Weight 1 for every point, as in the paper: biased by the magnification in perspective. */
     PaperCount
   };
+
+  /** \brief How alike a DRR and an X-ray are, over the pixels both cover (DRRImageSimilarity): blind to the X-ray's
+   * gain, offset and units, not to its sign. Their names ("ncc", "gc") are DRRImageSimilarity::GetMetricNames(). */
+  enum class Similarity : uint8_t
+  {
+    /** The normalized cross-correlation of the two images. */
+    NormalizedCorrelation,
+    /** The gradient correlation (Penney et al. 1998): the mean of the NCCs of the images' differences along the rows
+     * and along the columns (the default of the registration). */
+    GradientCorrelation
+  };
 };
 
 /** Writes the name of the enumerator (e.g. `Perspective`). @{ */
@@ -129,6 +140,8 @@ PointBasedDRR_EXPORT std::ostream &
                      operator<<(std::ostream & out, const PointBasedDRREnums::TransferFunction value);
 PointBasedDRR_EXPORT std::ostream &
                      operator<<(std::ostream & out, const PointBasedDRREnums::PointWeighting value);
+PointBasedDRR_EXPORT std::ostream &
+                     operator<<(std::ostream & out, const PointBasedDRREnums::Similarity value);
 /** @} */
 } // namespace itk
 

@@ -47,7 +47,7 @@ shift 2
 mkdir -p "$build"
 
 # The modules of the top CMakeLists.txt's find_package(ITK ... COMPONENTS) and of itk-module.cmake.
-modules=(ITKCommon ITKTransform ITKImageFunction ITKImageGrid ITKImageIntensity ITKOptimizers ITKRegistrationCommon
+modules=(ITKCommon ITKTransform ITKImageFunction ITKImageGrid ITKImageIntensity ITKOptimizers ITKOptimizersv4 ITKRegistrationCommon
   ITKIOImageBase ITKIOGDCM ITKGDCM ITKIOMeta ITKIONRRD ITKIONIFTI ITKIOPNG ITKIOTIFF ITKIOTransformBase ITKIOTransformInsightLegacy
   ITKTestKernel ITKGoogleTest ITKIOXML)
 

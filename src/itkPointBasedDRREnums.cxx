@@ -77,4 +77,11 @@ operator<<(std::ostream & out, const PointBasedDRREnums::PointWeighting value)
 {
   return out << (value == PointBasedDRREnums::PointWeighting::Unbiased ? "Unbiased" : "PaperCount");
 }
+
+std::ostream &
+operator<<(std::ostream & out, const PointBasedDRREnums::Similarity value)
+{
+  return out << (value == PointBasedDRREnums::Similarity::NormalizedCorrelation ? "NormalizedCorrelation"
+                                                                                : "GradientCorrelation");
+}
 } // namespace itk
