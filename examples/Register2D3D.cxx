@@ -496,11 +496,12 @@ Register(const MuImageType * mu, const std::vector<View> & views, const Options 
   method->SetStartPose(pose);
   auto identity = itk::DRRTransferFunction::New();
   identity->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
-  method->SetTransferFunction(identity);
-  method->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Tent);
-  method->SetUseExactProjector(options.Drr == "exact");
-  method->SetNumberOfSamples(static_cast<uint64_t>(options.Samples));
-  method->SetMetric(options.Metric);
+  auto * metric = method->GetModifiableMetric();
+  metric->SetTransferFunction(identity);
+  metric->SetReconstructionKernel(itk::PointBasedDRREnums::ReconstructionKernel::Tent);
+  metric->SetExactRaysPerPixelSide(options.Drr == "exact" ? 2 : 0);
+  metric->SetNumberOfSamples(static_cast<uint64_t>(options.Samples));
+  metric->SetSimilarity(itk::DRRImageSimilarity::FromName(options.Metric));
   method->SetShrinkFactorsPerLevel(options.Shrink);
   method->AddObserver(itk::IterationEvent(), [&method](const itk::EventObject &) {
     std::cerr << "level 1/" << method->GetCurrentShrinkFactor() << ": similarity "

@@ -61,6 +61,9 @@ namespace itk
  * derivative is 0): within one Prepare(), the value is continuous in the pose. There is no control variate: its coarse
  * image is a ray trace per pose, which is what kept points avoid, and its derivative lives on the coarse blocks' faces.
  *
+ * With Settings::ExactRaysPerPixelSide, the DRRs are the exact projector's (no points are drawn) and there is no
+ * derivative: a reference for derivative-free optimizers.
+ *
  * \sa PointBasedDRRMetricv4, DRRPointPoseGradient, DRRImageSimilarity
  * \ingroup PointBasedDRR
  */
@@ -87,6 +90,9 @@ public:
     KernelEnum     Kernel{ KernelEnum::Box };                         ///< where in its voxel a point goes
     unsigned int   ShrinkFactor{ 1 };     ///< detector binning: shrink x shrink pixels per pixel
     double         SmoothingSigma{ 0.0 }; ///< Gaussian on the binned detector, mm at the detector (0: none)
+    /** 0: the kept points (with a derivative); k >= 1: the exact projector of the kernel's model instead, k x k rays
+     * per pixel (DRRExactRayIntegrator: no noise, no derivative, for derivative-free optimizers). */
+    unsigned int ExactRaysPerPixelSide{ 0 };
   };
 
   /** One X-ray: its image and view (the view's detector size is the image's size). */
@@ -123,8 +129,8 @@ public:
 
   /** The mean similarity over the X-rays at the pose and, unless derivative is null, its derivative with respect to
    * the pose's parameters (d mean S / d theta, not negated), on the threads of threader (the same bits on any number).
-   * views, unless null, gets each X-ray's similarity and DRR. Throws ExceptionObject if Prepare() was not called, or
-   * for a transform that is not linear with an affine parameter Jacobian. */
+   * views, unless null, gets each X-ray's similarity and DRR. Throws ExceptionObject if Prepare() was not called, for
+   * a transform that is not linear, or for a derivative of the exact projector's DRRs. */
   double
   Evaluate(const TransformType &     pose,
            DerivativeType *          derivative,
@@ -180,7 +186,8 @@ private:
   std::vector<View>            m_Views;
   DRRPointCloud::Pointer       m_Cloud;
   Settings                     m_Settings;
-  const DRRAttenuationVolume * m_Model{ nullptr };
+  const DRRAttenuationVolume * m_Model{ nullptr };         // the model the sampler was initialized for
+  const DRRAttenuationVolume * m_PreparedModel{ nullptr }; // the model of the last Prepare()
   ModifiedTimeType             m_CloudModelTime{ 0 };
   ModifiedTimeType             m_CloudSamplerTime{ 0 };
   const DRRPointSampler *      m_CloudSampler{ nullptr };

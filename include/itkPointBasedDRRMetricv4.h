@@ -236,6 +236,14 @@ public:
   ///@}
 
   ///@{
+  /** 0 (the default): the kept points. k >= 1: the DRRs of the exact projector of the voxel model instead, k x k rays
+   * per pixel (no noise, no points, but no derivative: GetDerivative() throws, for derivative-free optimizers such as
+   * PowellOptimizerv4). */
+  itkSetMacro(ExactRaysPerPixelSide, unsigned int);
+  itkGetConstMacro(ExactRaysPerPixelSide, unsigned int);
+  ///@}
+
+  ///@{
   /** The threads an evaluation runs on (1 to ITK_MAX_THREADS). Default: ITK's global default. The same bits on any
    * number. */
   void
@@ -308,9 +316,10 @@ public:
   GetField(unsigned int index) const;
 
   /** Parameter scales for a v4 optimizer (SetScales()): for every parameter, the mean squared displacement (mm^2) of
-   * the kept points per unit of the parameter at the current pose, as ITK's RegistrationParameterScalesFromJacobian
-   * estimates them over its sample points (1 for a translation in mm, the mean squared lever arm of the CT's
-   * attenuation for a rotation in radians). After Initialize(). */
+   * the kept points (a few thousand of them; with the exact projector, the attenuating voxels of a subgrid) per unit of
+   * the parameter at the current pose, as ITK's RegistrationParameterScalesFromJacobian estimates them over its sample
+   * points (1 for a translation in mm, the mean squared lever arm of the CT's attenuation for a rotation in radians).
+   * After Initialize(). */
   ScalesType
   ComputeParameterScales() const;
 
@@ -363,6 +372,7 @@ private:
   DRRPointSampler::Pointer                     m_Sampler;
   unsigned int                                 m_DetectorShrinkFactor{ 1 };
   double                                       m_SmoothingSigma{ 0.0 };
+  unsigned int                                 m_ExactRaysPerPixelSide{ 0 };
   MultiThreaderBase::Pointer                   m_MultiThreader;
 
   typename StageType::Pointer             m_Stage;

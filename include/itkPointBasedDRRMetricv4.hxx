@@ -22,6 +22,8 @@
 #include "itkEuler3DTransform.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 namespace itk
 {
@@ -161,6 +163,7 @@ PointBasedDRRMetricv4<TVolumeImage>::Initialize()
   settings.Kernel = m_ReconstructionKernel;
   settings.ShrinkFactor = m_DetectorShrinkFactor;
   settings.SmoothingSigma = m_SmoothingSigma;
+  settings.ExactRaysPerPixelSide = m_ExactRaysPerPixelSide;
   m_Engine->Prepare(
     *model, model->GetMTime(), *m_Sampler, m_XRays, settings, *m_MovingTransform, m_MultiThreader.GetPointer());
   m_Similarities.assign(m_XRays.size(), 0.0);
@@ -362,29 +365,57 @@ auto
 PointBasedDRRMetricv4<TVolumeImage>::ComputeParameterScales() const -> ScalesType
 {
   const AttenuationVolumeType * model = this->GetModel();
-  const DRRPointCloud *         cloud = m_Engine->GetPointCloud();
-  if (!model || !m_MovingTransform || !cloud || cloud->GetNumberOfPoints() == 0)
+  if (!model || !m_MovingTransform)
   {
-    itkExceptionMacro("ComputeParameterScales() needs the kept points and the transform: call Initialize() first");
+    itkExceptionMacro("ComputeParameterScales() needs the model and the transform: call Initialize() first");
+  }
+  // A few thousand positions (continuous indices) that stand for the attenuation: kept points, or, for the exact
+  // projector, the attenuating voxels of a regular subgrid.
+  std::vector<std::array<double, 3>> positions;
+  if (const DRRPointCloud * cloud = m_Engine->GetPointCloud())
+  {
+    const uint64_t points = cloud->GetNumberOfPoints();
+    for (uint64_t i = 0; i < points; i += std::max<uint64_t>(1, points / 4096))
+    {
+      positions.push_back({ { cloud->GetX()[i], cloud->GetY()[i], cloud->GetZ()[i] } });
+    }
+  }
+  else
+  {
+    const auto     size = model->GetSize();
+    const uint64_t step = std::max<uint64_t>(
+      1, static_cast<uint64_t>(std::cbrt(static_cast<double>(size[0]) * size[1] * size[2] / 4096.0)));
+    for (uint64_t k = step / 2; k < size[2]; k += step)
+    {
+      for (uint64_t j = step / 2; j < size[1]; j += step)
+      {
+        for (uint64_t i = step / 2; i < size[0]; i += step)
+        {
+          if (model->GetMuOrZero(i, j, k) > 0.0f)
+          {
+            positions.push_back({ { static_cast<double>(i), static_cast<double>(j), static_cast<double>(k) } });
+          }
+        }
+      }
+    }
+  }
+  if (positions.empty())
+  {
+    itkExceptionMacro("ComputeParameterScales(): the volume has no attenuation to move");
   }
   DRRPointProjection::MatrixType matrix;
   DRRPointProjection::VectorType offset;
   DRRKeptPointSimilarity::GetLinearPart(*m_MovingTransform, matrix, offset);
-  const auto     inverse = matrix.GetInverse();
-  const auto     indexToPhysical = model->GetIndexToPhysicalMatrix();
-  const auto     count = m_MovingTransform->GetNumberOfParameters();
-  const uint64_t points = cloud->GetNumberOfPoints();
-  const uint64_t step = std::max<uint64_t>(1, points / 4096); // a few thousand points, spread along the sampler's walk
-  ScalesType     scales(count);
+  const auto inverse = matrix.GetInverse();
+  const auto indexToPhysical = model->GetIndexToPhysicalMatrix();
+  const auto count = m_MovingTransform->GetNumberOfParameters();
+  ScalesType scales(count);
   scales.Fill(0.0);
   typename MovingTransformType::JacobianType jacobian;
-  double                                     used = 0.0;
-  for (uint64_t i = 0; i < points; i += step)
+  for (const auto & index : positions)
   {
-    // The point in the CT's frame, then in the room (y = A^-1 (x - b)), where it moves by -A^-1 dT/dtheta.
-    const double     index[3] = { cloud->GetX()[i], cloud->GetY()[i], cloud->GetZ()[i] };
-    Point<double, 3> y;
-    double           x[3];
+    // The position in the CT's frame, then in the room (y = A^-1 (x - b)), where it moves by -A^-1 dT/dtheta.
+    double x[3];
     for (unsigned int r = 0; r < 3; ++r)
     {
       x[r] = model->GetOrigin()[r] - offset[r];
@@ -393,6 +424,7 @@ PointBasedDRRMetricv4<TVolumeImage>::ComputeParameterScales() const -> ScalesTyp
         x[r] += indexToPhysical[r][c] * index[c];
       }
     }
+    Point<double, 3> y;
     for (unsigned int r = 0; r < 3; ++r)
     {
       y[r] = inverse[r][0] * x[0] + inverse[r][1] * x[1] + inverse[r][2] * x[2];
@@ -407,13 +439,8 @@ PointBasedDRRMetricv4<TVolumeImage>::ComputeParameterScales() const -> ScalesTyp
           inverse[r][0] * jacobian(0, j) + inverse[r][1] * jacobian(1, j) + inverse[r][2] * jacobian(2, j);
         squared += move * move;
       }
-      scales[j] += squared;
+      scales[j] += squared / static_cast<double>(positions.size());
     }
-    used += 1.0;
-  }
-  for (unsigned int j = 0; j < count; ++j)
-  {
-    scales[j] /= used;
   }
   return scales;
 }
@@ -449,6 +476,7 @@ PointBasedDRRMetricv4<TVolumeImage>::PrintSelf(std::ostream & os, Indent indent)
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "DetectorShrinkFactor: " << m_DetectorShrinkFactor << std::endl;
   os << indent << "SmoothingSigma (mm): " << m_SmoothingSigma << std::endl;
+  os << indent << "ExactRaysPerPixelSide: " << m_ExactRaysPerPixelSide << std::endl;
   os << indent << "NumberOfWorkUnits: " << this->GetNumberOfWorkUnits() << std::endl;
   os << indent << "NumberOfValueEvaluations: " << m_NumberOfValueEvaluations << std::endl;
   os << indent << "NumberOfDerivativeEvaluations: " << m_NumberOfDerivativeEvaluations << std::endl;

@@ -20,12 +20,12 @@
 
 #include "itkDRRCompatibility.h"
 #include "itkDRRProjectionGeometry.h"
-#include "itkDRRTransferFunction.h"
 #include "itkDataObjectDecorator.h"
 #include "itkEuler3DTransform.h"
 #include "itkFixedArray.h"
 #include "itkImage.h"
-#include "itkPointBasedDRREnums.h"
+#include "itkObjectToObjectOptimizerBase.h"
+#include "itkPointBasedDRRMetricv4.h"
 #include "itkProcessObject.h"
 
 #include <cstdint>
@@ -35,38 +35,52 @@
 namespace itk
 {
 /** \class PointBasedDRRRegistrationMethod
- * \brief Rigid 2D-3D registration: the pose of a CT that makes its DRRs most like one or more real X-rays.
+ * \brief Rigid 2D-3D registration: the pose of a CT that makes its DRRs most like one or more real X-rays, composed as
+ * ImageRegistrationMethodv4 is, of a metric, an optimizer and a multi-resolution schedule.
  *
- * The pipeline's inputs are the CT (SetVolume(), HU unless a transfer function says otherwise) and the X-rays
- * (AddXRay(): a 2D image, of any intensity, and the DRRProjectionGeometry whose detector grid is the image's). Its
- * output is the found pose, as in ITK's ImageRegistrationMethodv4: a decorated transform (GetTransformOutput(),
- * GetTransform()), here an Euler3DTransform from the CT's frame to the room. GetPose() gives it as six numbers,
- * GetSimilarity(), GetNumberOfEvaluations() and GetFinalDRR() / GetFinalMask() what it was found with.
+ * The pipeline's inputs are the CT (SetVolume(), HU unless the metric's transfer function says otherwise) and the
+ * X-rays (AddXRay(): a 2D image, of any intensity, and the DRRProjectionGeometry whose detector grid is the image's;
+ * two or more views are registered jointly, which fixes the depth a single view sees only as magnification). Its output
+ * is the found pose, as in ITK's ImageRegistrationMethodv4: a decorated transform (GetTransformOutput(),
+ * GetTransform()), here an Euler3DTransform from the CT's frame to the room; GetPose() gives it as six numbers.
  *
  * The pose is the CT moved in the room: x -> R (x - c) + c + t, c the centre of the CT's grid, R the rotation of
  * Euler3DTransform's angles (rx, ry, rz) (about z, then x, then y); the identity is where the CT's own frame of
- * reference puts it. As six numbers (PoseType): tx ty tz in mm, rx ry rz in degrees.
+ * reference puts it. As six numbers (PoseType): tx ty tz in mm, rx ry rz in degrees. The metric optimizes its moving
+ * transform, the inverse of the pose (room to CT, as the DRR filters and ITK's ray caster take it): by default an
+ * Euler3DTransform about the CT's centre; any MatrixOffsetTransformBase set on the metric (VersorRigid3DTransform, ...)
+ * is used instead, started at the inverse of the start pose.
  *
- * The similarity (SetMetric(), DRRImageSimilarity) is the gradient correlation ("gc", the default) or the normalized
- * cross-correlation ("ncc") of DRR and X-ray over the pixels whose rays cross the CT's grid at the pose (the field
- * both cover), averaged over the X-rays. Powell's method (PowellOptimizer, derivative-free; one unit is one degree or
- * one mm) maximizes it on each level of a multi-resolution schedule (SetShrinkFactorsPerLevel(): the detector binned
- * shrink x shrink, the X-ray block-averaged alike), each level starting where the previous one ended.
- *
- * The DRRs: PointBasedDRRImageFilter with kept points (SetReusePoints(): the points are drawn once per X-ray and
- * re-projected at every pose and level; bilinear splat, so that the cost is continuous in the pose: frozen noise,
- * the shared design, section 9), or ExactDRRImageFilter (SetUseExactProjector(), k x k rays per pixel).
+ * The parts:
+ * - the metric (SetMetric(), default a new PointBasedDRRMetricv4: gradient correlation, stratified kept points,
+ *   bilinear splat, analytic derivative). Its settings are the user's (similarity, points, seed, voxel model, transfer
+ *   function, exact projector); the method gives it the CT and the X-rays and, per level, the detector shrink factor,
+ *   the number of points and the smoothing, then calls its Initialize();
+ * - the optimizer (SetOptimizer(): any ITK v4 optimizer; default MakeOptimizer(DefaultOptimizerName), chosen by
+ *   benchmark/registration.sh). With SetAutomaticParameterScales() (default on), the method sets the optimizer's
+ *   scales at every level from the metric's ComputeParameterScales(): as they are (squared displacements) for the
+ *   gradient-descent family, whose steps divide the gradient by them, their square roots (the displacement in mm of one
+ *   unit of a parameter) for the others. MakeOptimizer() makes the optimizers tuned here, by name
+ *   (GetOptimizerNames(): one list for pbdrr register's help and parsing);
+ * - the schedule: one level per shrink factor (SetShrinkFactorsPerLevel(), coarse to fine), with per level the number
+ *   of kept points (SetNumberOfSamplesPerLevel(), empty: the metric's own) and the smoothing of DRR and X-ray
+ *   (SetSmoothingSigmasPerLevel(), mm at the detector, empty: none). Each level starts where the previous ended;
+ * - a global stage (SetNumberOfStarts(), default 1: none): on the first level, the optimizer is run from that many
+ *   starts (the start pose, then poses spread over SetStartRadius() mm and degrees about it, deterministic) and the
+ *   best end goes on.
  *
  * After each level the method invokes an IterationEvent (GetCurrentLevel(), GetCurrentShrinkFactor(),
  * GetCurrentLevelSimilarity(), GetCurrentLevelEvaluations(), GetCurrentPose() tell about it) and a ProgressEvent. A
- * time limit (SetMaximumTimeInSeconds()) stops the search with the best pose evaluated so far
- * (GetStoppedByTimeLimit()).
+ * time limit (SetMaximumTimeInSeconds()) stops the search with the best pose evaluated so far, or the start pose if
+ * none was evaluated (GetStoppedByTimeLimit()). Every level keeps the best pose its optimizer evaluated, if it ends
+ * elsewhere.
  *
- * The CT must be 3D (a compile-time check); Update() throws ExceptionObject for an empty CT, no X-ray, an X-ray
- * without a geometry or whose size is not its detector's, an invalid geometry, no shrink level or a shrink factor of
- * 0, an unknown metric, 0 samples (kept points) or a negative time limit.
+ * The CT must be 3D (a compile-time check); Update() throws ExceptionObject for no X-ray, an X-ray without a geometry,
+ * no shrink level or a shrink factor of 0, per-level lists whose length is not the schedule's, a negative time limit,
+ * and whatever the metric's Initialize() refuses (an empty or all-air CT, an X-ray that is not finite, constant, of
+ * another size than its view, or whose view misses the CT; zero points; a transform that is not linear).
  *
- * \sa DRRImageSimilarity, PointBasedDRRImageFilter, ExactDRRImageFilter, DRRProjectionGeometry
+ * \sa PointBasedDRRMetricv4, ImageRegistrationMethodv4, PointBasedDRRImageFilter
  * \ingroup PointBasedDRR
  */
 template <typename TInputImage>
@@ -84,6 +98,10 @@ public:
   /** The CT: a 3D image of HU (or of what the transfer function takes). */
   using InputImageType = TInputImage;
   static_assert(TInputImage::ImageDimension == 3, "PointBasedDRRRegistrationMethod registers a 3D volume");
+  /** The metric: a v4 metric of the CT's kept-point DRRs against the X-rays. */
+  using MetricType = PointBasedDRRMetricv4<TInputImage>;
+  /** Any ITK v4 optimizer. */
+  using OptimizerType = ObjectToObjectOptimizerBaseTemplate<double>;
   /** An X-ray, and a DRR at the found pose: a 2D image of float. */
   using XRayImageType = Image<float, 2>;
   /** The field DRR and X-ray both cover: 1 where a pixel counts in the similarity, 0 elsewhere. */
@@ -98,16 +116,30 @@ public:
   using PoseType = FixedArray<double, 6>;
   /** One shrink factor per level, coarse to fine. */
   using ShrinkFactorsArrayType = std::vector<unsigned int>;
-  /** The transfer function of the DRR filters. */
-  using TransferFunctionType = DRRTransferFunction;
-  /** Box (Siddon) or Tent (trilinear) voxel model. */
-  using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
+  /** One number of kept points per level. */
+  using SamplesArrayType = std::vector<uint64_t>;
+  /** One smoothing sigma per level, mm at the detector. */
+  using SmoothingSigmasArrayType = std::vector<double>;
 
   /** Method for creation through the object factory. */
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
   itkOverrideGetNameOfClassMacro(PointBasedDRRRegistrationMethod);
+
+  /** The name of the default optimizer (MakeOptimizer()), chosen by benchmark/registration.sh. */
+  static constexpr const char * DefaultOptimizerName = "rsgd";
+
+  /** The names MakeOptimizer() takes, in the order of pbdrr register's help: "rsgd" (RegularStepGradientDescent),
+   * "lbfgsb" (LBFGSB), "cg" (ConjugateGradientLineSearch), "powell" (Powell, derivative-free), "amoeba" (Nelder-Mead,
+   * derivative-free). */
+  static const std::vector<std::string> &
+  GetOptimizerNames();
+
+  /** A new v4 optimizer of that name, tuned for this metric (its settings in the class comment of the .hxx); throws
+   * ExceptionObject, listing the names, for another name. */
+  static typename OptimizerType::Pointer
+  MakeOptimizer(const std::string & name);
 
   ///@{
   /** The CT to register (the primary input, "Volume"). */
@@ -140,51 +172,64 @@ public:
   GetXRayGeometry(unsigned int index) const;
 
   ///@{
+  /** The metric (default: a new PointBasedDRRMetricv4). Its CT and X-rays are the method's. */
+  itkSetObjectMacro(Metric, MetricType);
+  itkGetModifiableObjectMacro(Metric, MetricType);
+  ///@}
+
+  ///@{
+  /** The optimizer run on every level (default nullptr: MakeOptimizer(DefaultOptimizerName), or "powell" when the
+   * metric renders with the exact projector, which has no derivative). */
+  itkSetObjectMacro(Optimizer, OptimizerType);
+  itkGetModifiableObjectMacro(Optimizer, OptimizerType);
+  ///@}
+
+  ///@{
+  /** Sets the optimizer's scales at every level from the metric (see the class comment). Default true. */
+  itkSetMacro(AutomaticParameterScales, bool);
+  itkGetConstMacro(AutomaticParameterScales, bool);
+  itkBooleanMacro(AutomaticParameterScales);
+  ///@}
+
+  ///@{
   /** The starting pose: tx ty tz (mm) rx ry rz (degrees). Default: the identity (all 0). */
   itkSetMacro(StartPose, PoseType);
   itkGetConstMacro(StartPose, PoseType);
   ///@}
 
   ///@{
-  /** The schedule: one detector binning factor (1 or more) per level, coarse to fine. Default {2, 1}: the last level
-   * at full resolution, where the gradients decide the rotations out of the view's plane. */
+  /** The schedule: one detector binning factor (1 or more) per level, coarse to fine. Default {4, 2}. */
   void
   SetShrinkFactorsPerLevel(const ShrinkFactorsArrayType & factors);
   itkGetConstReferenceMacro(ShrinkFactorsPerLevel, ShrinkFactorsArrayType);
   ///@}
 
   ///@{
-  /** The similarity: "gc" (gradient correlation, the default) or "ncc" (DRRImageSimilarity::GetMetricNames()). */
-  itkSetStringMacro(Metric);
-  itkGetStringMacro(Metric);
+  /** Kept points per level (one per shrink factor), or empty (the default): the metric's number on every level. */
+  void
+  SetNumberOfSamplesPerLevel(const SamplesArrayType & samples);
+  itkGetConstReferenceMacro(NumberOfSamplesPerLevel, SamplesArrayType);
   ///@}
 
   ///@{
-  /** Renders the DRRs with ExactDRRImageFilter (no noise, slower per DRR) instead of kept points. Default false. */
-  itkSetMacro(UseExactProjector, bool);
-  itkGetConstMacro(UseExactProjector, bool);
-  itkBooleanMacro(UseExactProjector);
+  /** The smoothing of DRR and X-ray per level (one per shrink factor; sigma in mm at the detector, 0: none), or empty
+   * (the default): none. */
+  void
+  SetSmoothingSigmasPerLevel(const SmoothingSigmasArrayType & sigmas);
+  itkGetConstReferenceMacro(SmoothingSigmasPerLevel, SmoothingSigmasArrayType);
   ///@}
 
   ///@{
-  /** The exact projector's rays per pixel side k: a pixel is the average of k x k rays, as a detector pixel
-   * integrates (one ray samples a point: on sharp edges the NCC optimum moves by tenths of a degree). 1 to 1024,
-   * default 2. */
-  itkSetClampMacro(ExactRaysPerPixelSide, unsigned int, 1, 1024);
-  itkGetConstMacro(ExactRaysPerPixelSide, unsigned int);
+  /** The global stage: the number of starts on the first level (1, the default: the start pose alone). */
+  itkSetClampMacro(NumberOfStarts, unsigned int, 1, 1000);
+  itkGetConstMacro(NumberOfStarts, unsigned int);
   ///@}
 
   ///@{
-  /** Kept points per X-ray, drawn once and re-projected at every pose. Default 4,000,000. */
-  itkSetMacro(NumberOfSamples, uint64_t);
-  itkGetConstMacro(NumberOfSamples, uint64_t);
-  ///@}
-
-  ///@{
-  /** The seed of the kept points: X-ray k draws with Seed + k. Default 0: the same seed, the same pose on any
-   * number of threads. */
-  itkSetMacro(Seed, uint64_t);
-  itkGetConstMacro(Seed, uint64_t);
+  /** How far the global stage's starts spread about the start pose: up to this many mm along each axis and degrees
+   * about each axis. Default 10. */
+  itkSetMacro(StartRadius, double);
+  itkGetConstMacro(StartRadius, double);
   ///@}
 
   ///@{
@@ -192,18 +237,6 @@ public:
    * with the best pose evaluated so far. 0 (the default): no limit. */
   itkSetMacro(MaximumTimeInSeconds, double);
   itkGetConstMacro(MaximumTimeInSeconds, double);
-  ///@}
-
-  ///@{
-  /** The transfer function every DRR filter uses (shared). Default nullptr: the filters' own (HU, natural). */
-  itkSetObjectMacro(TransferFunction, TransferFunctionType);
-  itkGetModifiableObjectMacro(TransferFunction, TransferFunctionType);
-  ///@}
-
-  ///@{
-  /** The voxel model of the DRRs: Box (default) or Tent. */
-  itkSetEnumMacro(ReconstructionKernel, KernelEnum);
-  itkGetConstMacro(ReconstructionKernel, KernelEnum);
   ///@}
 
   using Superclass::MakeOutput;
@@ -228,8 +261,12 @@ public:
   /** The similarity at the found pose at full resolution, mean over the X-rays. */
   itkGetConstMacro(Similarity, double);
 
-  /** The number of poses at which the DRRs were rendered during the search (each renders every X-ray). */
+  /** The number of poses at which the DRRs were rendered during the search (each renders every X-ray; a pose with
+   * its derivative counts once). */
   itkGetConstMacro(NumberOfEvaluations, SizeValueType);
+
+  /** Of those, the number of poses whose derivative was computed too. */
+  itkGetConstMacro(NumberOfDerivativeEvaluations, SizeValueType);
 
   /** The wall time of the last registration, seconds. */
   itkGetConstMacro(ElapsedSeconds, double);
@@ -261,7 +298,10 @@ public:
   /** During an IterationEvent: the pose the level just done ended at, tx ty tz (mm) rx ry rz (degrees). */
   itkGetConstMacro(CurrentPose, PoseType);
 
-  /** The latest of the object's, the X-rays' geometries' and the transfer function's modification times. */
+  /** During an IterationEvent: why the level's optimizer stopped (its GetStopConditionDescription()). */
+  itkGetStringMacro(CurrentStopCondition);
+
+  /** The latest of the object's, the X-rays' geometries', the metric's and the optimizer's modification times. */
   ModifiedTimeType
   GetMTime() const override;
 
@@ -277,10 +317,6 @@ protected:
   void
   VerifyPreconditions() const override;
 
-  /** Throws ExceptionObject for an empty volume, an invalid view or an X-ray whose size is not its view's. */
-  void
-  VerifyInputInformation() const override;
-
   /** Registers: the schedule's levels, then the final DRRs, masks and similarity at full resolution. */
   void
   GenerateData() override;
@@ -289,24 +325,11 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  /** The cost Powell's method minimizes on one level: 1 - the mean similarity of the X-rays and the DRRs. */
-  class LevelCost;
-  /** Thrown by the cost when the time limit has passed: the best pose so far is the answer. */
+  /** The metric as the optimizer sees it: counts the evaluations, keeps the best pose, and stops at the deadline. */
+  class DeadlineMetric;
+  /** Thrown by DeadlineMetric when the time limit has passed: the best pose so far is the answer. */
   struct TimeIsUp
   {};
-
-  /** A copy of a view, bit for bit. */
-  static GeometryType::Pointer
-  CopyGeometry(const GeometryType * geometry);
-  /** The view binned shrink x shrink (a last partial block of pixels is left out). */
-  static GeometryType::Pointer
-  BinnedGeometry(const GeometryType * geometry, unsigned int shrink);
-  /** The image binned as BinnedGeometry() bins its view: block means. */
-  static std::vector<float>
-  BinnedImage(const XRayImageType * image, unsigned int shrink);
-  /** The pixels whose rays cross the volume's grid at the pose: the field DRR and X-ray both cover. */
-  static std::vector<uint8_t>
-  CoveredField(const GeometryType * geometry, const ImageBase<3> * volume, const TransformType * pose);
 
   /** The pose (mm, degrees) as Euler3DTransform's parameters (radians, mm) and back. */
   static TransformType::ParametersType
@@ -314,22 +337,38 @@ private:
   static PoseType
   ToPose(const TransformType::ParametersType & parameters);
 
+  /** Sets the metric's moving transform to the inverse of pose (the CT's frame to the room). */
+  void
+  SetMovingTransformToPose(const PoseType & pose) const;
+  /** The pose whose inverse the metric's moving transform is. */
+  PoseType
+  PoseOfMovingTransform() const;
+
+  /** The global stage's k-th start about the start pose (k = 0: the start pose). */
+  PoseType
+  GlobalStart(unsigned int k) const;
+
+  /** Runs the optimizer on the metric from its transform's parameters; returns the best parameters evaluated. */
+  typename MetricType::ParametersType
+  Optimize(OptimizerType * optimizer, DeadlineMetric * watched, double & bestValue);
+
   std::vector<GeometryType::ConstPointer> m_XRayGeometries;
+  typename MetricType::Pointer            m_Metric;
+  typename OptimizerType::Pointer         m_Optimizer;
+  bool                                    m_AutomaticParameterScales{ true };
   PoseType                                m_StartPose{ 0.0 };
-  ShrinkFactorsArrayType                  m_ShrinkFactorsPerLevel{ 2, 1 };
-  std::string                             m_Metric{ "gc" };
-  bool                                    m_UseExactProjector{ false };
-  unsigned int                            m_ExactRaysPerPixelSide{ 2 };
-  uint64_t                                m_NumberOfSamples{ 4000000 };
-  uint64_t                                m_Seed{ 0 };
+  ShrinkFactorsArrayType                  m_ShrinkFactorsPerLevel{ 4, 2 };
+  SamplesArrayType                        m_NumberOfSamplesPerLevel;
+  SmoothingSigmasArrayType                m_SmoothingSigmasPerLevel;
+  unsigned int                            m_NumberOfStarts{ 1 };
+  double                                  m_StartRadius{ 10.0 };
   double                                  m_MaximumTimeInSeconds{ 0.0 };
-  typename TransferFunctionType::Pointer  m_TransferFunction;
-  KernelEnum                              m_ReconstructionKernel{ KernelEnum::Box };
 
   PoseType                            m_Pose{ 0.0 };
   double                              m_StartSimilarity{ 0.0 };
   double                              m_Similarity{ 0.0 };
   SizeValueType                       m_NumberOfEvaluations{ 0 };
+  SizeValueType                       m_NumberOfDerivativeEvaluations{ 0 };
   double                              m_ElapsedSeconds{ 0.0 };
   bool                                m_StoppedByTimeLimit{ false };
   std::vector<XRayImageType::Pointer> m_FinalDRRs;
@@ -339,6 +378,7 @@ private:
   double                              m_CurrentLevelSimilarity{ 0.0 };
   SizeValueType                       m_CurrentLevelEvaluations{ 0 };
   PoseType                            m_CurrentPose{ 0.0 };
+  std::string                         m_CurrentStopCondition;
 };
 } // namespace itk
 

@@ -18,136 +18,321 @@
 #ifndef itkPointBasedDRRRegistrationMethod_hxx
 #define itkPointBasedDRRRegistrationMethod_hxx
 
-#include "itkDRRImageSimilarity.h"
-#include "itkDRRImageToAttenuationVolumeFilter.h"
-#include "itkDRRProjectionGeometryFileIO.h"
-#include "itkExactDRRImageFilter.h"
-#include "itkPointBasedDRRImageFilter.h"
-#include "itkPowellOptimizer.h"
-#include "itkSingleValuedCostFunction.h"
+#include "itkAmoebaOptimizerv4.h"
+#include "itkConjugateGradientLineSearchOptimizerv4.h"
+#include "itkLBFGSBOptimizerv4.h"
+#include "itkMatrixOffsetTransformBase.h"
+#include "itkPowellOptimizerv4.h"
+#include "itkRegularStepGradientDescentOptimizerv4.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 namespace itk
 {
-/** 1 - the mean similarity of the X-rays and the DRRs at a pose (Euler3DTransform's parameters), on one level of the
- * schedule. */
+/** The metric as the optimizer sees it. It forwards every call to the method's metric, and:
+ * - presents the parameters in millimetres (with AutomaticParameterScales): parameter j divided by its unit, the RMS
+ *   displacement of the kept points per unit of it (the square root of the metric's ComputeParameterScales()), so
+ *   that every optimizer, those that take no scales (LBFGSB) included, sees a problem whose units agree;
+ * - counts the evaluations and keeps the best pose evaluated;
+ * - past the deadline, evaluates nothing: it returns the worst value (1: minus the similarity, which is at least -1)
+ *   and a zero derivative, which ends every optimizer's search at once, so that nothing is thrown through an
+ *   optimizer's numerical library (LBFGSB's is C). */
 template <typename TInputImage>
-class PointBasedDRRRegistrationMethod<TInputImage>::LevelCost : public SingleValuedCostFunction
+class PointBasedDRRRegistrationMethod<TInputImage>::DeadlineMetric : public ObjectToObjectMetricBaseTemplate<double>
 {
 public:
-  ITK_DISALLOW_COPY_AND_MOVE(LevelCost);
-  using Self = LevelCost;
-  using Superclass = SingleValuedCostFunction;
+  ITK_DISALLOW_COPY_AND_MOVE(DeadlineMetric);
+  using Self = DeadlineMetric;
+  using Superclass = ObjectToObjectMetricBaseTemplate<double>;
   using Pointer = SmartPointer<Self>;
   /** Method for creation through the object factory. */
   itkNewMacro(Self);
   using typename Superclass::DerivativeType;
   using typename Superclass::MeasureType;
+  using typename Superclass::NumberOfParametersType;
   using typename Superclass::ParametersType;
+  using typename Superclass::ParametersValueType;
 
-  /** One X-ray on this level: its binned view and pixels, and the filter that renders it. */
-  struct Level
-  {
-    /** The view, binned. */
-    GeometryType::Pointer Geometry;
-    /** The X-ray's pixels, binned alike. */
-    std::vector<float> XRay;
-    /** The kept points' filter (or null). */
-    typename PointBasedDRRImageFilter<TInputImage, XRayImageType>::Pointer Points;
-    /** The exact projector (or null). */
-    typename ExactDRRImageFilter<TInputImage, XRayImageType>::Pointer Exact;
-  };
-
-  /** One per X-ray. */
-  std::vector<Level> Levels;
-  /** The similarity's name. */
-  std::string Metric;
-  /** The CT. */
-  const TInputImage * Volume{ nullptr };
-  /** The pose evaluated (set to the parameters). */
-  TransformType::Pointer Pose;
-  /** Past it, GetValue() throws TimeIsUp. */
-  std::chrono::steady_clock::time_point Deadline{ std::chrono::steady_clock::time_point::max() };
-  /** The poses evaluated. */
-  mutable SizeValueType Evaluations{ 0 };
-  /** The lowest cost so far. */
-  mutable double BestValue{ std::numeric_limits<double>::infinity() };
-  /** Where it was found. */
-  mutable ParametersType BestParameters;
-
-  /** 1 - the mean similarity at parameters; throws TimeIsUp past the deadline. */
-  MeasureType
-  GetValue(const ParametersType & parameters) const override
-  {
-    if (std::chrono::steady_clock::now() > Deadline)
-    {
-      throw TimeIsUp{};
-    }
-    ++Evaluations;
-    Pose->SetParameters(parameters);
-    double similarity = 0.0;
-    for (const Level & level : Levels)
-    {
-      const XRayImageType * drr = Render(level, Pose);
-      similarity += DRRImageSimilarity::Evaluate(Metric,
-                                                 drr->GetBufferPointer(),
-                                                 level.XRay.data(),
-                                                 CoveredField(level.Geometry, Volume, Pose),
-                                                 level.Geometry->GetDetectorSize()[0]);
-    }
-    const double value = 1.0 - similarity / static_cast<double>(Levels.size());
-    if (value < BestValue)
-    {
-      BestValue = value;
-      BestParameters = parameters;
-    }
-    return value;
-  }
-
-  /** Renders level's view at the pose. */
-  static const XRayImageType *
-  Render(const Level & level, const TransformType * pose)
-  {
-    const auto roomToVolume = pose->GetInverseTransform();
-    if (level.Exact)
-    {
-      level.Exact->SetTransform(roomToVolume);
-      level.Exact->SetGeometry(level.Geometry);
-      level.Exact->Update();
-      return level.Exact->GetOutput();
-    }
-    level.Points->SetTransform(roomToVolume);
-    level.Points->SetGeometry(level.Geometry);
-    level.Points->Update();
-    return level.Points->GetOutput();
-  }
-
-  /** Throws: Powell's method needs none. */
+  /** The metric watched, the units of its parameters (empty: 1) and the deadline. */
   void
-  GetDerivative(const ParametersType &, DerivativeType &) const override
+  Watch(MetricType * metric, const Array<double> & units, std::chrono::steady_clock::time_point deadline)
   {
-    itkExceptionMacro("no derivative: a derivative-free optimizer is used");
+    m_Metric = metric;
+    m_Units = units;
+    if (m_Units.GetSize() != metric->GetNumberOfParameters())
+    {
+      m_Units.SetSize(metric->GetNumberOfParameters());
+      m_Units.Fill(1.0);
+    }
+    m_Deadline = deadline;
+    m_BestValue = std::numeric_limits<double>::infinity();
+    m_BestParameters = metric->GetParameters();
+    m_Evaluations = 0;
+    m_DerivativeEvaluations = 0;
   }
 
-  /** Six: Euler3DTransform's. */
-  unsigned int
+  /** True once an evaluation was asked for past the deadline. */
+  bool
+  GetTimeIsUp() const
+  {
+    return m_TimeIsUp;
+  }
+
+  /** The lowest value evaluated since Watch() (infinity if none), and its parameters (the metric's own units). */
+  double
+  GetBestValue() const
+  {
+    return m_BestValue;
+  }
+  /** The parameters of GetBestValue(), in the metric's own units. */
+  const ParametersType &
+  GetBestParameters() const
+  {
+    return m_BestParameters;
+  }
+
+  /** Evaluations since Watch(): all, and those with a derivative. */
+  SizeValueType
+  GetEvaluations() const
+  {
+    return m_Evaluations;
+  }
+  /** Of those, the evaluations with a derivative. */
+  SizeValueType
+  GetDerivativeEvaluations() const
+  {
+    return m_DerivativeEvaluations;
+  }
+
+  /** Nothing: the method initializes the metric watched, level by level. */
+  void
+  Initialize() override
+  {}
+
+  /** The metric's value (1 past the deadline). */
+  MeasureType
+  GetValue() const override
+  {
+    if (this->PastDeadline())
+    {
+      return this->m_Value = 1.0;
+    }
+    this->m_Value = m_Metric->GetValue();
+    this->Keep(this->m_Value);
+    return this->m_Value;
+  }
+
+  /** The metric's derivative, per unit of the parameters presented (0 past the deadline). */
+  void
+  GetDerivative(DerivativeType & derivative) const override
+  {
+    MeasureType value;
+    this->GetValueAndDerivative(value, derivative);
+  }
+
+  /** Both, per unit of the parameters presented (1 and 0 past the deadline). */
+  void
+  GetValueAndDerivative(MeasureType & value, DerivativeType & derivative) const override
+  {
+    if (this->PastDeadline())
+    {
+      derivative.SetSize(m_Metric->GetNumberOfParameters());
+      derivative.Fill(0.0);
+      value = this->m_Value = 1.0;
+      return;
+    }
+    m_Metric->GetValueAndDerivative(value, derivative);
+    ++m_DerivativeEvaluations;
+    for (unsigned int j = 0; j < derivative.GetSize(); ++j)
+    {
+      derivative[j] /= m_Units[j]; // d/dq = d/dtheta / unit, q = theta unit
+    }
+    this->m_Value = value;
+    this->Keep(value);
+  }
+
+  /** The metric's. */
+  NumberOfParametersType
   GetNumberOfParameters() const override
   {
-    return 6;
+    return m_Metric->GetNumberOfParameters();
+  }
+
+  /** The metric's. */
+  NumberOfParametersType
+  GetNumberOfLocalParameters() const override
+  {
+    return m_Metric->GetNumberOfLocalParameters();
+  }
+
+  /** Sets the metric's parameters from the ones presented (divided by their units). */
+  void
+  SetParameters(ParametersType & parameters) override
+  {
+    ParametersType own(parameters.GetSize());
+    for (unsigned int j = 0; j < own.GetSize(); ++j)
+    {
+      own[j] = parameters[j] / m_Units[j];
+    }
+    m_Metric->SetParameters(own);
+  }
+
+  /** The metric's parameters as presented (times their units). */
+  const ParametersType &
+  GetParameters() const override
+  {
+    const ParametersType & own = m_Metric->GetParameters();
+    m_Scaled.SetSize(own.GetSize());
+    for (unsigned int j = 0; j < own.GetSize(); ++j)
+    {
+      m_Scaled[j] = own[j] * m_Units[j];
+    }
+    return m_Scaled;
+  }
+
+  /** False: one global transform. */
+  bool
+  HasLocalSupport() const override
+  {
+    return false;
+  }
+
+  /** Updates the metric's transform by an update in the units presented. */
+  void
+  UpdateTransformParameters(const DerivativeType & update, ParametersValueType factor) override
+  {
+    DerivativeType own(update.GetSize());
+    for (unsigned int j = 0; j < own.GetSize(); ++j)
+    {
+      own[j] = update[j] / m_Units[j];
+    }
+    m_Metric->UpdateTransformParameters(own, factor);
   }
 
 protected:
-  LevelCost() = default;
-  ~LevelCost() override = default;
+  DeadlineMetric() = default;
+  ~DeadlineMetric() override = default;
+
+private:
+  bool
+  PastDeadline() const
+  {
+    m_TimeIsUp = m_TimeIsUp || std::chrono::steady_clock::now() > m_Deadline;
+    return m_TimeIsUp;
+  }
+
+  void
+  Keep(double value) const
+  {
+    ++m_Evaluations;
+    if (value < m_BestValue)
+    {
+      m_BestValue = value;
+      m_BestParameters = m_Metric->GetParameters();
+    }
+  }
+
+  MetricType *                          m_Metric{ nullptr };
+  Array<double>                         m_Units;
+  std::chrono::steady_clock::time_point m_Deadline{ std::chrono::steady_clock::time_point::max() };
+  mutable bool                          m_TimeIsUp{ false };
+  mutable double                        m_BestValue{ std::numeric_limits<double>::infinity() };
+  mutable ParametersType                m_BestParameters;
+  mutable ParametersType                m_Scaled;
+  mutable SizeValueType                 m_Evaluations{ 0 };
+  mutable SizeValueType                 m_DerivativeEvaluations{ 0 };
 };
 
 template <typename TInputImage>
-PointBasedDRRRegistrationMethod<TInputImage>::PointBasedDRRRegistrationMethod()
+const std::vector<std::string> &
+PointBasedDRRRegistrationMethod<TInputImage>::GetOptimizerNames()
+{
+  static const std::vector<std::string> names{ "rsgd", "lbfgsb", "cg", "powell", "amoeba" };
+  return names;
+}
+
+template <typename TInputImage>
+auto
+PointBasedDRRRegistrationMethod<TInputImage>::MakeOptimizer(const std::string & name) -> typename OptimizerType::Pointer
+{
+  // Every length below is in mm of the points' motion: the method presents the parameters so (DeadlineMetric).
+  if (name == "rsgd")
+  {
+    // Steps of 2 mm, halved whenever the gradient turns back, down to 0.01 mm.
+    auto optimizer = RegularStepGradientDescentOptimizerv4<double>::New();
+    optimizer->SetLearningRate(2.0);
+    optimizer->SetMinimumStepLength(0.01);
+    optimizer->SetRelaxationFactor(0.5);
+    optimizer->SetGradientMagnitudeTolerance(1e-12);
+    optimizer->SetNumberOfIterations(200);
+    optimizer->SetReturnBestParametersAndValue(true);
+    return optimizer.GetPointer();
+  }
+  if (name == "lbfgsb")
+  {
+    auto                                  optimizer = LBFGSBOptimizerv4::New();
+    LBFGSBOptimizerv4::BoundSelectionType unbounded(6);
+    unbounded.Fill(0);
+    optimizer->SetBoundSelection(unbounded);
+    optimizer->SetCostFunctionConvergenceFactor(1e9);
+    optimizer->SetGradientConvergenceTolerance(1e-7);
+    optimizer->SetNumberOfIterations(100);
+    optimizer->SetMaximumNumberOfFunctionEvaluations(200);
+    optimizer->SetMaximumNumberOfCorrections(6);
+    return optimizer.GetPointer();
+  }
+  if (name == "cg")
+  {
+    // A golden-section line search along each conjugate direction, over steps of up to 5 mm.
+    auto optimizer = ConjugateGradientLineSearchOptimizerv4::New();
+    optimizer->SetLearningRate(1.0);
+    optimizer->SetLowerLimit(0.0);
+    optimizer->SetUpperLimit(5.0);
+    optimizer->SetEpsilon(0.01);
+    optimizer->SetMaximumLineSearchIterations(12);
+    optimizer->SetNumberOfIterations(30);
+    optimizer->SetMinimumConvergenceValue(1e-6);
+    optimizer->SetConvergenceWindowSize(5);
+    optimizer->SetDoEstimateLearningRateAtEachIteration(false);
+    optimizer->SetDoEstimateLearningRateOnce(false);
+    optimizer->SetReturnBestParametersAndValue(true);
+    return optimizer.GetPointer();
+  }
+  if (name == "powell")
+  {
+    // As the earlier, derivative-free registration: steps of 2 mm, to 0.02 mm.
+    auto optimizer = PowellOptimizerv4<double>::New();
+    optimizer->SetStepLength(2.0);
+    optimizer->SetStepTolerance(0.02);
+    optimizer->SetValueTolerance(1e-7);
+    optimizer->SetMaximumIteration(8);
+    optimizer->SetMaximumLineIteration(12);
+    return optimizer.GetPointer();
+  }
+  if (name == "amoeba")
+  {
+    auto                              optimizer = AmoebaOptimizerv4::New();
+    AmoebaOptimizerv4::ParametersType simplex(6);
+    simplex.Fill(2.0);
+    optimizer->SetInitialSimplexDelta(simplex);
+    optimizer->SetParametersConvergenceTolerance(0.02);
+    optimizer->SetFunctionConvergenceTolerance(1e-6);
+    optimizer->SetNumberOfIterations(400);
+    return optimizer.GetPointer();
+  }
+  std::string names;
+  for (const std::string & known : GetOptimizerNames())
+  {
+    names += (names.empty() ? "" : ", ") + known;
+  }
+  itkGenericExceptionMacro("unknown optimizer '" << name << "' (" << names << ")");
+}
+
+template <typename TInputImage>
+PointBasedDRRRegistrationMethod<TInputImage>::PointBasedDRRRegistrationMethod() : m_Metric(MetricType::New())
 {
   this->SetPrimaryInputName("Volume");
   this->SetNumberOfRequiredInputs(1);
@@ -223,6 +408,28 @@ PointBasedDRRRegistrationMethod<TInputImage>::SetShrinkFactorsPerLevel(const Shr
 }
 
 template <typename TInputImage>
+void
+PointBasedDRRRegistrationMethod<TInputImage>::SetNumberOfSamplesPerLevel(const SamplesArrayType & samples)
+{
+  if (samples != m_NumberOfSamplesPerLevel)
+  {
+    m_NumberOfSamplesPerLevel = samples;
+    this->Modified();
+  }
+}
+
+template <typename TInputImage>
+void
+PointBasedDRRRegistrationMethod<TInputImage>::SetSmoothingSigmasPerLevel(const SmoothingSigmasArrayType & sigmas)
+{
+  if (sigmas != m_SmoothingSigmasPerLevel)
+  {
+    m_SmoothingSigmasPerLevel = sigmas;
+    this->Modified();
+  }
+}
+
+template <typename TInputImage>
 ProcessObject::DataObjectPointer
 PointBasedDRRRegistrationMethod<TInputImage>::MakeOutput(DataObjectPointerArraySizeType)
 {
@@ -268,7 +475,8 @@ PointBasedDRRRegistrationMethod<TInputImage>::GetMTime() const
   {
     latest = geometry ? std::max(latest, geometry->GetMTime()) : latest;
   }
-  return m_TransferFunction ? std::max(latest, m_TransferFunction->GetMTime()) : latest;
+  latest = m_Metric ? std::max(latest, m_Metric->GetMTime()) : latest;
+  return m_Optimizer ? std::max(latest, m_Optimizer->GetMTime()) : latest;
 }
 
 template <typename TInputImage>
@@ -311,117 +519,65 @@ PointBasedDRRRegistrationMethod<TInputImage>::MakePoseTransform(const ImageBase<
 }
 
 template <typename TInputImage>
-auto
-PointBasedDRRRegistrationMethod<TInputImage>::CopyGeometry(const GeometryType * geometry) -> GeometryType::Pointer
+void
+PointBasedDRRRegistrationMethod<TInputImage>::SetMovingTransformToPose(const PoseType & pose) const
 {
-  // Through the geometry file format, which round-trips every field.
-  std::stringstream text;
-  DRRProjectionGeometryFileIO::WriteToStream(text, geometry);
-  auto copy = GeometryType::New();
-  DRRProjectionGeometryFileIO::ReadFromStream(text, copy);
-  return copy;
+  using LinearType = MatrixOffsetTransformBase<double, 3, 3>;
+  auto * moving = dynamic_cast<LinearType *>(m_Metric->GetModifiableMovingTransform());
+  if (!moving)
+  {
+    itkExceptionMacro("the metric's moving transform is a "
+                      << m_Metric->GetModifiableMovingTransform()->GetNameOfClass()
+                      << ": the method starts and reports poses of a MatrixOffsetTransformBase (Euler3DTransform, "
+                         "VersorRigid3DTransform, ...)");
+  }
+  // The moving transform maps the room to the CT: the inverse of the pose, about the same centre.
+  const auto forward = MakePoseTransform(this->GetVolume(), pose);
+  auto       inverse = TransformType::New();
+  forward->GetInverse(inverse);
+  moving->SetCenter(forward->GetCenter());
+  moving->SetMatrix(inverse->GetMatrix());
+  moving->SetOffset(inverse->GetOffset());
 }
 
 template <typename TInputImage>
 auto
-PointBasedDRRRegistrationMethod<TInputImage>::BinnedGeometry(const GeometryType * geometry, unsigned int shrink)
-  -> GeometryType::Pointer
+PointBasedDRRRegistrationMethod<TInputImage>::PoseOfMovingTransform() const -> PoseType
 {
-  // Coarse pixel K covers the fine pixels shrink K .. shrink K + shrink - 1, so its centre is their mean.
-  auto binned = CopyGeometry(geometry);
-  if (shrink == 1)
-  {
-    return binned;
-  }
-  GeometryType::DetectorSizeType   size;
-  GeometryType::DetectorVectorType spacing, offset;
-  for (unsigned int d = 0; d < 2; ++d)
-  {
-    const double fine = static_cast<double>(geometry->GetDetectorSize()[d]);
-    size[d] = std::max<SizeValueType>(1, geometry->GetDetectorSize()[d] / shrink);
-    const double coarse = static_cast<double>(size[d]);
-    spacing[d] = geometry->GetDetectorSpacing()[d] * shrink;
-    offset[d] =
-      geometry->GetDetectorOffset()[d] +
-      (0.5 * (shrink - 1.0) - 0.5 * (fine - 1.0) + 0.5 * (coarse - 1.0) * shrink) * geometry->GetDetectorSpacing()[d];
-  }
-  binned->SetDetectorSize(size);
-  binned->SetDetectorSpacing(spacing);
-  binned->SetDetectorOffset(offset);
-  return binned;
+  using LinearType = MatrixOffsetTransformBase<double, 3, 3>;
+  const auto * moving = dynamic_cast<const LinearType *>(m_Metric->GetModifiableMovingTransform());
+  auto         inverse = LinearType::New();
+  moving->GetInverse(inverse);
+  auto pose = TransformType::New();
+  pose->SetCenter(GeometryType::ComputeImageCenter(this->GetVolume()));
+  pose->SetMatrix(inverse->GetMatrix());
+  pose->SetOffset(inverse->GetOffset());
+  return ToPose(pose->GetParameters());
 }
 
 template <typename TInputImage>
-std::vector<float>
-PointBasedDRRRegistrationMethod<TInputImage>::BinnedImage(const XRayImageType * image, unsigned int shrink)
+auto
+PointBasedDRRRegistrationMethod<TInputImage>::GlobalStart(unsigned int k) const -> PoseType
 {
-  const auto         size = image->GetLargestPossibleRegion().GetSize();
-  const size_t       columns = std::max<size_t>(1, size[0] / shrink), rows = std::max<size_t>(1, size[1] / shrink);
-  const unsigned int block = std::min<size_t>(shrink, std::min(size[0], size[1]));
-  std::vector<float> binned(columns * rows, 0.0f);
-  const float *      in = image->GetBufferPointer();
-  for (size_t r = 0; r < rows; ++r)
+  if (k == 0)
   {
-    for (size_t c = 0; c < columns; ++c)
-    {
-      double sum = 0.0;
-      for (unsigned int j = 0; j < block; ++j)
-      {
-        for (unsigned int i = 0; i < block; ++i)
-        {
-          sum += in[(r * shrink + j) * size[0] + c * shrink + i];
-        }
-      }
-      binned[r * columns + c] = static_cast<float>(sum / (block * block));
-    }
+    return m_StartPose;
   }
-  return binned;
-}
-
-template <typename TInputImage>
-std::vector<uint8_t>
-PointBasedDRRRegistrationMethod<TInputImage>::CoveredField(const GeometryType *  geometry,
-                                                           const ImageBase<3> *  volume,
-                                                           const TransformType * pose)
-{
-  // A slab test per pixel against the grid [-0.5, n - 0.5]^3, in the volume's continuous index.
-  const auto           size = geometry->GetDetectorSize();
-  const auto           extent = volume->GetLargestPossibleRegion().GetSize();
-  const auto           inverse = pose->GetInverseTransform();
-  std::vector<uint8_t> mask(size[0] * size[1], 0);
-  const bool           parallel = geometry->GetProjection() == PointBasedDRREnums::Projection::Parallel;
-  const auto           toIndex = [&](const GeometryType::PointType & room) {
-    // The overload that returns the index: ITK 6 marks the one that returns whether it is inside [[nodiscard]].
-    return volume->TransformPhysicalPointToContinuousIndex<double>(inverse->TransformPoint(room));
-  };
-  for (unsigned int row = 0; row < size[1]; ++row)
+  // Deterministic and spread: the k-th point of a Halton sequence in bases 2, 3, 5, 7, 11, 13 over the cube of side
+  // twice the radius about the start pose (mm, degrees).
+  static const unsigned int bases[6] = { 2, 3, 5, 7, 11, 13 };
+  PoseType                  start = m_StartPose;
+  for (unsigned int d = 0; d < 6; ++d)
   {
-    for (unsigned int column = 0; column < size[0]; ++column)
+    double fraction = 1.0, value = 0.0;
+    for (unsigned int i = k; i > 0; i /= bases[d])
     {
-      const auto start = geometry->GetRayStart(column, row);
-      auto       end = geometry->GetPixelCenter(column, row);
-      if (parallel)
-      {
-        end = end + (end - start); // the whole line: as far beyond the detector as the start is before it
-      }
-      const auto a = toIndex(start), b = toIndex(end);
-      double     enter = 0.0, exit = 1.0;
-      for (unsigned int k = 0; k < 3 && enter <= exit; ++k)
-      {
-        const double low = -0.5, high = static_cast<double>(extent[k]) - 0.5, d = b[k] - a[k];
-        if (std::abs(d) < 1e-300)
-        {
-          exit = (a[k] < low || a[k] > high) ? -1.0 : exit;
-          continue;
-        }
-        const double t1 = (low - a[k]) / d, t2 = (high - a[k]) / d;
-        enter = std::max(enter, std::min(t1, t2));
-        exit = std::min(exit, std::max(t1, t2));
-      }
-      mask[row * size[0] + column] = enter < exit ? 1 : 0;
+      fraction /= bases[d];
+      value += fraction * (i % bases[d]);
     }
+    start[d] += m_StartRadius * (2.0 * value - 1.0);
   }
-  return mask;
+  return start;
 }
 
 template <typename TInputImage>
@@ -440,6 +596,10 @@ PointBasedDRRRegistrationMethod<TInputImage>::VerifyPreconditions() const
       itkExceptionMacro("X-ray " << x << " has no image or no geometry");
     }
   }
+  if (!m_Metric)
+  {
+    itkExceptionMacro("no metric (SetMetric())");
+  }
   if (m_ShrinkFactorsPerLevel.empty())
   {
     itkExceptionMacro("the schedule has no level: give at least one shrink factor");
@@ -451,41 +611,50 @@ PointBasedDRRRegistrationMethod<TInputImage>::VerifyPreconditions() const
       itkExceptionMacro("a shrink factor is 0: each level bins the detector 1 x 1 or more");
     }
   }
-  if (!DRRImageSimilarity::IsMetricName(m_Metric))
+  const size_t levels = m_ShrinkFactorsPerLevel.size();
+  if (!m_NumberOfSamplesPerLevel.empty() && m_NumberOfSamplesPerLevel.size() != levels)
   {
-    itkExceptionMacro("unknown registration metric '" << m_Metric << "' ("
-                                                      << DRRImageSimilarity::JoinMetricNames(" or ") << ")");
+    itkExceptionMacro("the schedule has " << levels << " levels but " << m_NumberOfSamplesPerLevel.size()
+                                          << " numbers of samples: give one per level, or none");
   }
-  if (!m_UseExactProjector && m_NumberOfSamples == 0)
+  if (!m_SmoothingSigmasPerLevel.empty() && m_SmoothingSigmasPerLevel.size() != levels)
   {
-    itkExceptionMacro("the number of samples is 0: the kept points' DRRs need at least one point");
+    itkExceptionMacro("the schedule has " << levels << " levels but " << m_SmoothingSigmasPerLevel.size()
+                                          << " smoothing sigmas: give one per level, or none");
   }
   if (!(m_MaximumTimeInSeconds >= 0.0))
   {
     itkExceptionMacro("the time limit is " << m_MaximumTimeInSeconds << " s: give 0 (none) or a positive number");
   }
+  if (!(m_StartRadius >= 0.0) || !std::isfinite(m_StartRadius))
+  {
+    itkExceptionMacro("the start radius is " << m_StartRadius << ": give 0 or more (mm and degrees)");
+  }
 }
 
 template <typename TInputImage>
-void
-PointBasedDRRRegistrationMethod<TInputImage>::VerifyInputInformation() const
+auto
+PointBasedDRRRegistrationMethod<TInputImage>::Optimize(OptimizerType *  optimizer,
+                                                       DeadlineMetric * watched,
+                                                       double & bestValue) -> typename MetricType::ParametersType
 {
-  const auto extent = this->GetVolume()->GetLargestPossibleRegion().GetSize();
-  if (extent[0] == 0 || extent[1] == 0 || extent[2] == 0)
+  if (auto * lbfgsb = dynamic_cast<LBFGSBOptimizerv4 *>(optimizer))
   {
-    itkExceptionMacro("the volume is empty (" << extent[0] << " x " << extent[1] << " x " << extent[2] << " voxels)");
+    lbfgsb->SetInitialPosition(watched->GetParameters()); // it keeps its last start otherwise
   }
-  for (unsigned int x = 0; x < m_XRayGeometries.size(); ++x)
+  optimizer->SetMetric(watched);
+  optimizer->StartOptimization();
+  m_CurrentStopCondition = optimizer->GetStopConditionDescription();
+  // The position the optimizer ended at may not be the best it evaluated (a last failed step, a line search): keep the
+  // best, evaluating the end if it was not.
+  if (!watched->GetTimeIsUp())
   {
-    m_XRayGeometries[x]->VerifyGeometry();
-    const auto size = this->GetXRayImage(x)->GetLargestPossibleRegion().GetSize();
-    const auto detector = m_XRayGeometries[x]->GetDetectorSize();
-    if (detector[0] != size[0] || detector[1] != size[1])
-    {
-      itkExceptionMacro("X-ray " << x << " is " << size[0] << " x " << size[1] << " pixels, its view " << detector[0]
-                                 << " x " << detector[1]);
-    }
+    typename MetricType::ParametersType end = watched->GetParameters();
+    watched->SetParameters(end);
+    watched->GetValue();
   }
+  bestValue = watched->GetBestValue();
+  return watched->GetBestParameters();
 }
 
 template <typename TInputImage>
@@ -493,156 +662,118 @@ void
 PointBasedDRRRegistrationMethod<TInputImage>::GenerateData()
 {
   const InputImageType * volume = this->GetVolume();
-  const size_t           count = m_XRayGeometries.size();
   const auto             begin = std::chrono::steady_clock::now();
-  auto                   pose = MakePoseTransform(volume, m_StartPose);
+  const auto             deadline = m_MaximumTimeInSeconds > 0.0
+                                      ? begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                      std::chrono::duration<double>(m_MaximumTimeInSeconds))
+                                      : std::chrono::steady_clock::time_point::max();
   m_NumberOfEvaluations = 0;
+  m_NumberOfDerivativeEvaluations = 0;
   m_StoppedByTimeLimit = false;
   m_FinalDRRs.clear();
   m_FinalMasks.clear();
 
-  // One filter per X-ray for the whole schedule: kept points are drawn once and re-projected at every pose and level.
-  // The filters share one attenuation model, built once for all the X-rays.
-  auto model = DRRImageToAttenuationVolumeFilter<InputImageType>::New();
-  model->SetInput(volume);
-  model->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  if (m_TransferFunction)
+  MetricType * metric = m_Metric;
+  metric->SetVolume(volume);
+  metric->RemoveAllXRays();
+  for (unsigned int x = 0; x < m_XRayGeometries.size(); ++x)
   {
-    model->SetTransferFunction(m_TransferFunction);
+    metric->AddXRay(this->GetXRayImage(x), m_XRayGeometries[x]);
   }
-  using Level = typename LevelCost::Level;
-  std::vector<Level> filters(count);
-  for (size_t x = 0; x < count; ++x)
+  metric->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  if (!metric->GetModifiableMovingTransform())
   {
-    if (m_UseExactProjector)
-    {
-      auto exact = ExactDRRImageFilter<InputImageType, XRayImageType>::New();
-      exact->SetAttenuationVolume(model->GetOutput());
-      exact->SetRaysPerPixelSide(m_ExactRaysPerPixelSide);
-      exact->SetReconstructionKernel(m_ReconstructionKernel);
-      exact->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-      filters[x].Exact = exact;
-    }
-    else
-    {
-      auto points = PointBasedDRRImageFilter<InputImageType, XRayImageType>::New();
-      points->SetAttenuationVolume(model->GetOutput());
-      points->SetNumberOfSamples(m_NumberOfSamples);
-      points->SetSeed(m_Seed + x);
-      points->SetReconstructionKernel(m_ReconstructionKernel);
-      points->SetSplat(PointBasedDRREnums::Splat::Bilinear); // a cost continuous in the pose
-      points->SetReusePoints(true);
-      points->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-      filters[x].Points = points;
-    }
+    auto moving = Euler3DTransform<double>::New();
+    moving->SetCenter(GeometryType::ComputeImageCenter(volume));
+    metric->SetMovingTransform(moving);
   }
+  this->SetMovingTransformToPose(m_StartPose);
+  const uint64_t metricSamples = metric->GetNumberOfSamples();
 
-  const auto levelCost = [&](unsigned int shrink) {
-    auto cost = LevelCost::New();
-    cost->Metric = m_Metric;
-    cost->Volume = volume;
-    cost->Pose = pose;
-    if (m_MaximumTimeInSeconds > 0.0)
-    {
-      cost->Deadline = begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                 std::chrono::duration<double>(m_MaximumTimeInSeconds));
-    }
-    for (size_t x = 0; x < count; ++x)
-    {
-      Level level = filters[x];
-      level.Geometry = BinnedGeometry(m_XRayGeometries[x], shrink);
-      level.XRay = BinnedImage(this->GetXRayImage(x), shrink);
-      cost->Levels.push_back(level);
-    }
-    return cost;
+  typename OptimizerType::Pointer optimizer = m_Optimizer;
+  if (!optimizer)
+  {
+    optimizer = MakeOptimizer(metric->GetExactRaysPerPixelSide() > 0 ? "powell" : DefaultOptimizerName);
+  }
+  auto       watched = DeadlineMetric::New();
+  const auto account = [&]() {
+    m_NumberOfEvaluations += watched->GetEvaluations();
+    m_NumberOfDerivativeEvaluations += watched->GetDerivativeEvaluations();
+    m_StoppedByTimeLimit = m_StoppedByTimeLimit || watched->GetTimeIsUp();
   };
-  m_StartSimilarity = 1.0 - levelCost(m_ShrinkFactorsPerLevel.front())->GetValue(pose->GetParameters());
-
-  auto parameters = pose->GetParameters();
-  for (unsigned int levelIndex = 0; levelIndex < m_ShrinkFactorsPerLevel.size(); ++levelIndex)
+  for (unsigned int level = 0; level < m_ShrinkFactorsPerLevel.size() && !m_StoppedByTimeLimit; ++level)
   {
-    const unsigned int shrink = m_ShrinkFactorsPerLevel[levelIndex];
-    auto               cost = levelCost(shrink);
-    auto               optimizer = PowellOptimizer::New();
-    optimizer->SetCostFunction(cost);
-    optimizer->SetInitialPosition(parameters);
-    constexpr double            degree = 3.14159265358979323846 / 180.0;
-    PowellOptimizer::ScalesType scales(6);
-    for (unsigned int k = 0; k < 6; ++k)
+    const unsigned int shrink = m_ShrinkFactorsPerLevel[level];
+    metric->SetDetectorShrinkFactor(shrink);
+    metric->SetNumberOfSamples(m_NumberOfSamplesPerLevel.empty() ? metricSamples : m_NumberOfSamplesPerLevel[level]);
+    metric->SetSmoothingSigma(m_SmoothingSigmasPerLevel.empty() ? 0.0 : m_SmoothingSigmasPerLevel[level]);
+    metric->Initialize();
+    Array<double> units;
+    if (m_AutomaticParameterScales)
     {
-      scales[k] = k < 3 ? 1.0 / degree : 1.0; // one optimizer unit: one degree or one millimetre
-    }
-    optimizer->SetScales(scales);
-    optimizer->SetMaximize(false);
-    optimizer->SetStepLength(std::max(1.0, static_cast<double>(shrink)));
-    optimizer->SetStepTolerance(0.02 * shrink);
-    optimizer->SetValueTolerance(1e-7);
-    optimizer->SetMaximumIteration(8);
-    optimizer->SetMaximumLineIteration(12);
-    try
-    {
-      optimizer->StartOptimization();
-      parameters = optimizer->GetCurrentPosition();
-      if (cost->BestValue < cost->GetValue(parameters))
+      const auto scales = metric->ComputeParameterScales();
+      units.SetSize(scales.GetSize());
+      for (unsigned int j = 0; j < scales.GetSize(); ++j)
       {
-        parameters = cost->BestParameters;
+        units[j] = std::sqrt(std::max(scales[j], 1e-12));
       }
     }
-    catch (const TimeIsUp &)
+    watched->Watch(metric, units, deadline);
+    if (level == 0)
     {
-      m_StoppedByTimeLimit = true;
-      if (cost->BestParameters.size() == 6)
+      m_StartSimilarity = -watched->GetValue();
+    }
+    // The global stage on the first level: the best end of several starts goes on.
+    const unsigned int                  starts = level == 0 ? m_NumberOfStarts : 1;
+    double                              best = std::numeric_limits<double>::infinity();
+    typename MetricType::ParametersType bestParameters = metric->GetParameters();
+    SizeValueType                       levelEvaluations = 0;
+    for (unsigned int k = 0; k < starts && !watched->GetTimeIsUp(); ++k)
+    {
+      if (k > 0)
       {
-        parameters = cost->BestParameters;
+        account();
+        levelEvaluations += watched->GetEvaluations();
+        this->SetMovingTransformToPose(this->GlobalStart(k));
+        watched->Watch(metric, units, deadline);
+      }
+      double                                    value = best;
+      const typename MetricType::ParametersType found = this->Optimize(optimizer, watched, value);
+      if (value < best)
+      {
+        best = value;
+        bestParameters = found;
       }
     }
-    m_NumberOfEvaluations += cost->Evaluations;
-    m_CurrentLevel = levelIndex;
+    account();
+    levelEvaluations += watched->GetEvaluations();
+    if (std::isfinite(best))
+    {
+      metric->SetParameters(bestParameters);
+    }
+    m_CurrentLevel = level;
     m_CurrentShrinkFactor = shrink;
-    m_CurrentLevelSimilarity = 1.0 - cost->BestValue;
-    m_CurrentLevelEvaluations = cost->Evaluations;
-    m_CurrentPose = ToPose(parameters);
+    m_CurrentLevelSimilarity = -best;
+    m_CurrentLevelEvaluations = levelEvaluations;
+    m_CurrentPose = this->PoseOfMovingTransform();
     this->InvokeEvent(IterationEvent());
-    this->UpdateProgress(static_cast<float>(levelIndex + 1) / static_cast<float>(m_ShrinkFactorsPerLevel.size()));
-    if (m_StoppedByTimeLimit)
-    {
-      break;
-    }
+    this->UpdateProgress(static_cast<float>(level + 1) / static_cast<float>(m_ShrinkFactorsPerLevel.size()));
   }
-  pose->SetParameters(parameters);
-  m_Pose = ToPose(parameters);
+  m_Pose = this->PoseOfMovingTransform();
 
-  // The final DRRs and similarity, at full resolution.
-  double similarity = 0.0;
-  for (size_t x = 0; x < count; ++x)
+  // The final DRRs and similarity, at full resolution, unsmoothed, with the last level's points.
+  metric->SetDetectorShrinkFactor(1);
+  metric->SetSmoothingSigma(0.0);
+  metric->Initialize();
+  m_Similarity = -metric->GetValue();
+  for (unsigned int x = 0; x < m_XRayGeometries.size(); ++x)
   {
-    Level level = filters[x];
-    level.Geometry = CopyGeometry(m_XRayGeometries[x]);
-    const XRayImageType * drr = LevelCost::Render(level, pose);
-    auto                  kept = XRayImageType::New();
-    kept->CopyInformation(drr);
-    kept->SetRegions(drr->GetLargestPossibleRegion());
-    kept->Allocate();
-    std::copy(drr->GetBufferPointer(),
-              drr->GetBufferPointer() + drr->GetLargestPossibleRegion().GetNumberOfPixels(),
-              kept->GetBufferPointer());
-    const std::vector<uint8_t> field = CoveredField(level.Geometry, volume, pose);
-    similarity += DRRImageSimilarity::Evaluate(m_Metric,
-                                               kept->GetBufferPointer(),
-                                               this->GetXRayImage(x)->GetBufferPointer(),
-                                               field,
-                                               level.Geometry->GetDetectorSize()[0]);
-    auto mask = MaskImageType::New();
-    mask->CopyInformation(kept);
-    mask->SetRegions(kept->GetLargestPossibleRegion());
-    mask->Allocate();
-    std::copy(field.begin(), field.end(), mask->GetBufferPointer());
-    m_FinalDRRs.push_back(kept);
-    m_FinalMasks.push_back(mask);
+    m_FinalDRRs.push_back(metric->ComputeDRR(x));
+    m_FinalMasks.push_back(metric->GetField(x));
   }
-  m_Similarity = similarity / static_cast<double>(count);
+  metric->SetNumberOfSamples(metricSamples);
   auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-  output->Set(pose);
+  output->Set(MakePoseTransform(volume, m_Pose));
   m_ElapsedSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
 }
 
@@ -652,25 +783,34 @@ PointBasedDRRRegistrationMethod<TInputImage>::PrintSelf(std::ostream & os, Inden
 {
   Superclass::PrintSelf(os, indent);
   os << indent << "NumberOfXRays: " << m_XRayGeometries.size() << std::endl;
+  os << indent << "Metric: " << m_Metric.GetPointer() << std::endl;
+  os << indent << "Optimizer: " << (m_Optimizer ? m_Optimizer->GetNameOfClass() : "(default)") << std::endl;
+  os << indent << "AutomaticParameterScales: " << m_AutomaticParameterScales << std::endl;
   os << indent << "StartPose (mm, degrees): " << m_StartPose << std::endl;
   os << indent << "ShrinkFactorsPerLevel:";
   for (const unsigned int shrink : m_ShrinkFactorsPerLevel)
   {
     os << " " << shrink;
   }
+  os << std::endl << indent << "NumberOfSamplesPerLevel:";
+  for (const uint64_t samples : m_NumberOfSamplesPerLevel)
+  {
+    os << " " << samples;
+  }
+  os << std::endl << indent << "SmoothingSigmasPerLevel (mm):";
+  for (const double sigma : m_SmoothingSigmasPerLevel)
+  {
+    os << " " << sigma;
+  }
   os << std::endl;
-  os << indent << "Metric: " << m_Metric << std::endl;
-  os << indent << "UseExactProjector: " << m_UseExactProjector << std::endl;
-  os << indent << "ExactRaysPerPixelSide: " << m_ExactRaysPerPixelSide << std::endl;
-  os << indent << "NumberOfSamples: " << m_NumberOfSamples << std::endl;
-  os << indent << "Seed: " << m_Seed << std::endl;
+  os << indent << "NumberOfStarts: " << m_NumberOfStarts << std::endl;
+  os << indent << "StartRadius (mm, degrees): " << m_StartRadius << std::endl;
   os << indent << "MaximumTimeInSeconds: " << m_MaximumTimeInSeconds << std::endl;
-  os << indent << "TransferFunction: " << m_TransferFunction.GetPointer() << std::endl;
-  os << indent << "ReconstructionKernel: " << m_ReconstructionKernel << std::endl;
   os << indent << "Pose (mm, degrees): " << m_Pose << std::endl;
   os << indent << "StartSimilarity: " << m_StartSimilarity << std::endl;
   os << indent << "Similarity: " << m_Similarity << std::endl;
   os << indent << "NumberOfEvaluations: " << m_NumberOfEvaluations << std::endl;
+  os << indent << "NumberOfDerivativeEvaluations: " << m_NumberOfDerivativeEvaluations << std::endl;
   os << indent << "ElapsedSeconds: " << m_ElapsedSeconds << std::endl;
   os << indent << "StoppedByTimeLimit: " << m_StoppedByTimeLimit << std::endl;
   os << indent << "CurrentLevel: " << m_CurrentLevel << std::endl;

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRKeptPointSimilarity.h"
+#include "itkDRRExactRayIntegrator.h"
 #include "itkDRRImageSimilarity.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkMatrixOffsetTransformBase.h"
@@ -272,7 +273,7 @@ DRRKeptPointSimilarity::Prepare(const DRRAttenuationVolume & model,
                                 const TransformType &        pose,
                                 MultiThreaderBase *          threader)
 {
-  if (settings.NumberOfSamples == 0)
+  if (settings.NumberOfSamples == 0 && settings.ExactRaysPerPixelSide == 0)
   {
     itkGenericExceptionMacro("the number of samples is 0: the kept points' DRRs need at least one point");
   }
@@ -298,29 +299,45 @@ DRRKeptPointSimilarity::Prepare(const DRRAttenuationVolume & model,
   DRRPointProjection::VectorType offset;
   GetLinearPart(pose, matrix, offset);
 
-  // The points: drawn again only when what they are drawn from changed.
+  // The points: drawn again only when what they are drawn from changed (none for the exact projector).
   const bool newModel = &model != m_Model || modelTime != m_CloudModelTime || &sampler != m_CloudSampler ||
                         sampler.GetMTime() != m_CloudSamplerTime;
   if (newModel)
   {
     m_Cloud = nullptr;
-    sampler.Initialize(model);
+    m_Model = nullptr;
   }
-  if (!(sampler.GetTotalMass() > 0.0))
+  if (settings.ExactRaysPerPixelSide > 0)
   {
-    itkGenericExceptionMacro("the volume is all air (attenuation mass 0): there is nothing to register");
+    const DRRExactRayIntegrator check(model, settings.Kernel); // throws for a kernel without an exact projector
+    if (!(model.ComputeTotalMass() > 0.0))
+    {
+      itkGenericExceptionMacro("the volume is all air (attenuation mass 0): there is nothing to register");
+    }
   }
-  if (newModel || !m_Cloud || settings.NumberOfSamples != m_Settings.NumberOfSamples ||
-      settings.Seed != m_Settings.Seed || settings.Kernel != m_Settings.Kernel)
+  else
   {
-    m_Cloud = nullptr; // free the old points before drawing new ones
-    m_Cloud = DRRPointRenderer::Draw(model, sampler, RenderSettings(settings), threader, nullptr);
-    ++m_NumberOfDraws;
+    if (!m_Model)
+    {
+      sampler.Initialize(model);
+      m_CloudSamplerTime = sampler.GetMTime();
+    }
+    if (!(sampler.GetTotalMass() > 0.0))
+    {
+      itkGenericExceptionMacro("the volume is all air (attenuation mass 0): there is nothing to register");
+    }
+    if (!m_Cloud || settings.NumberOfSamples != m_Settings.NumberOfSamples || settings.Seed != m_Settings.Seed ||
+        settings.Kernel != m_Settings.Kernel)
+    {
+      m_Cloud = nullptr; // free the old points before drawing new ones
+      m_Cloud = DRRPointRenderer::Draw(model, sampler, RenderSettings(settings), threader, nullptr);
+      ++m_NumberOfDraws;
+    }
+    m_Model = &model; // the sampler is ready for it
   }
-  m_Model = &model;
+  m_PreparedModel = &model;
   m_CloudModelTime = modelTime;
   m_CloudSampler = &sampler;
-  m_CloudSamplerTime = sampler.GetMTime();
   m_Settings = settings;
 
   m_Views.clear();
@@ -390,9 +407,16 @@ DRRKeptPointSimilarity::Evaluate(const TransformType &     pose,
                                  std::vector<ViewResult> * views,
                                  MultiThreaderBase *       threader) const
 {
-  if (!m_Cloud || m_Views.empty() || !m_Model)
+  const bool exact = m_Settings.ExactRaysPerPixelSide > 0;
+  if ((!m_Cloud && !exact) || m_Views.empty() || !m_PreparedModel)
   {
     itkGenericExceptionMacro("the kept-point similarity is not prepared (Prepare(), or the metric's Initialize())");
+  }
+  if (exact && derivative)
+  {
+    itkGenericExceptionMacro("the exact projector's DRRs have no derivative here: use a derivative-free optimizer "
+                             "(PowellOptimizerv4, AmoebaOptimizerv4, OnePlusOneEvolutionaryOptimizerv4) or the kept "
+                             "points");
   }
   DRRPointProjection::MatrixType matrix;
   DRRPointProjection::VectorType offset;
@@ -416,11 +440,20 @@ DRRKeptPointSimilarity::Evaluate(const TransformType &     pose,
   std::vector<double>                         weights;
   for (size_t v = 0; v < m_Views.size(); ++v)
   {
-    const View &                   view = m_Views[v];
-    DRRPointProjection             projection(*view.Geometry, *m_Model, matrix, offset);
-    const DRRPointRenderer::Result result =
-      DRRPointRenderer::Render(*m_Cloud, projection, render, threader, nullptr, view.Workspace.get());
-    std::vector<double> drr = result.LineIntegral;
+    const View &             view = m_Views[v];
+    DRRPointProjection       projection(*view.Geometry, *m_PreparedModel, matrix, offset);
+    DRRPointRenderer::Result result;
+    if (exact)
+    {
+      const DRRExactRayIntegrator integrator(*m_PreparedModel, m_Settings.Kernel);
+      result.LineIntegral =
+        integrator.RenderProjection(projection, m_Settings.ExactRaysPerPixelSide, threader, nullptr);
+    }
+    else
+    {
+      result = DRRPointRenderer::Render(*m_Cloud, projection, render, threader, nullptr, view.Workspace.get());
+    }
+    std::vector<double> drr = std::move(result.LineIntegral);
     Smooth(drr, *view.Geometry, m_Settings.SmoothingSigma);
     weights.assign(derivative ? drr.size() : 0, 0.0);
     const double similarity = DRRImageSimilarity::EvaluateWithDerivative(m_Settings.Similarity,

@@ -17,56 +17,217 @@
  *=========================================================================*/
 #include "itkDRRPointPoseGradient.h"
 #include "itkDRRPointRenderer.h"
+#include "itkDRRCompilerBuiltins.h"
 #include "itkDRRWorkScheduler.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <vector>
 
 namespace itk
 {
 namespace
 {
-/** What one chunk of points adds up: Phi, the sums of a alpha (3) and of a alpha (p - p_ref)^T (9), in the beam's
- * frame (u, v, n) by the volume's index axes, and the points on the detector. */
-struct ChunkSums
+constexpr uint64_t batchSize = 512;
+constexpr unsigned lanes = 8; // independent partial sums: vectorizable, and the same bits on any instruction set
+
+/** The beam a backward pass differentiates: a cone, a localizer (a fan across, parallel along the rows) or parallel. */
+enum class Beam
 {
-  double   Value{ 0.0 };
-  double   Alpha[3]{ 0.0, 0.0, 0.0 };
-  double   AlphaIndex[3][3]{ { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+  Cone,
+  Localizer,
+  Parallel
+};
+
+/** G, padded by zeros so that the four corners of any clamped position are inside: column c of the detector is
+ * column c + 1 here, and there are columns + 3 columns and rows + 3 rows. */
+struct PaddedImage
+{
+  std::vector<float> Values;
+  int32_t            Columns, Rows, Stride;
+};
+
+PaddedImage
+Pad(const double * image, int32_t columns, int32_t rows)
+{
+  PaddedImage padded{ std::vector<float>(static_cast<size_t>(columns + 3) * static_cast<size_t>(rows + 3), 0.0f),
+                      columns,
+                      rows,
+                      columns + 3 };
+  for (int32_t r = 0; r < rows; ++r)
+  {
+    for (int32_t c = 0; c < columns; ++c)
+    {
+      padded.Values[static_cast<size_t>(r + 1) * padded.Stride + c + 1] = static_cast<float>(image[r * columns + c]);
+    }
+  }
+  return padded;
+}
+
+/** One batch: the points' positions relative to the volume's centre, and what each adds to the sums. */
+struct Batch
+{
+  float Column[batchSize], Row[batchSize];
+  float A[batchSize];      // w g / z (or w for parallel), 0 for a point that does not count
+  float Weight[batchSize]; // w g: the point's value share
+  float TU[batchSize], TV[batchSize], Depth[batchSize];
+  float G[batchSize], GC[batchSize], GR[batchSize]; // G^ and its derivatives along columns and rows
+  float Alpha[3][batchSize];
+  float Q[3][batchSize];
+};
+
+/** What a chunk adds up, in lanes: Phi, sum a alpha (3), sum a alpha q^T (9). */
+struct LaneSums
+{
+  double   Value[lanes]{};
+  double   Alpha[3][lanes]{};
+  double   AlphaQ[3][3][lanes]{};
   uint64_t OnDetector{ 0 };
 };
 
-/** G read at a continuous pixel position as the bilinear splat deposits there: its value and its derivatives along
- * the columns and the rows (pixels off the detector read 0). */
-struct BilinearRead
+/** The parts of the projection the pass needs, in float (the render of a cloud projects in float). */
+struct Coefficients
 {
-  double Value, AlongColumns, AlongRows;
-  bool   OnDetector;
+  float PU0, GU[3], PV0, GV[3], Z0, GZ[3];
+  float SID, SIDOverDU, SIDOverDV, InverseDU, InverseDV, ColumnShift, RowShift, MinimumDepth;
+  float Center[3];
+  bool  Unbiased;
 };
 
-BilinearRead
-ReadBilinear(const double * image, int64_t columns, int64_t rows, double column, double row)
+template <Beam VBeam>
+PointBasedDRR_VECTOR_CLONES void
+RunBatch(const Coefficients & k,
+         const PaddedImage &  G,
+         const float *        x,
+         const float *        y,
+         const float *        z,
+         const float *        pointWeight,
+         float                scale,
+         uint64_t             n,
+         Batch &              b,
+         LaneSums &           sums)
 {
-  const double  c = std::floor(column), r = std::floor(row);
-  const double  fc = column - c, fr = row - r;
-  const int64_t c0 = static_cast<int64_t>(std::max(-2.0, std::min(c, static_cast<double>(columns + 1))));
-  const int64_t r0 = static_cast<int64_t>(std::max(-2.0, std::min(r, static_cast<double>(rows + 1))));
-  const auto    at = [&](int64_t i, int64_t j) {
-    return i >= 0 && j >= 0 && i < columns && j < rows ? image[j * columns + i] : 0.0;
-  };
-  const double g00 = at(c0, r0), g10 = at(c0 + 1, r0), g01 = at(c0, r0 + 1), g11 = at(c0 + 1, r0 + 1);
-  const bool   onDetector =
-    c0 + 1 >= 0 && r0 + 1 >= 0 && c0 < columns && r0 < rows && std::isfinite(column) && std::isfinite(row);
-  if (!onDetector)
+  // 1. Project (as DRRPointProjection::ProjectBatch<float> does), branch-free.
+  for (uint64_t s = 0; s < n; ++s)
   {
-    return { 0.0, 0.0, 0.0, false };
+    const float pu = k.PU0 + k.GU[0] * x[s] + k.GU[1] * y[s] + k.GU[2] * z[s];
+    const float pv = k.PV0 + k.GV[0] * x[s] + k.GV[1] * y[s] + k.GV[2] * z[s];
+    const float w = scale * (pointWeight ? pointWeight[s] : 1.0f);
+    b.Q[0][s] = x[s] - k.Center[0];
+    b.Q[1][s] = y[s] - k.Center[1];
+    b.Q[2][s] = z[s] - k.Center[2];
+    if (VBeam == Beam::Parallel)
+    {
+      b.Column[s] = pu * k.InverseDU + k.ColumnShift;
+      b.Row[s] = pv * k.InverseDV + k.RowShift;
+      b.Weight[s] = w;
+      b.A[s] = w;
+      continue;
+    }
+    const float depth = k.Z0 + k.GZ[0] * x[s] + k.GZ[1] * y[s] + k.GZ[2] * z[s];
+    const bool  counts = (depth >= k.MinimumDepth) & (depth <= k.SID);
+    const float inverseZ = 1.0f / depth;
+    const float tu = pu * inverseZ, tv = pv * inverseZ;
+    float       g;
+    if (VBeam == Beam::Cone)
+    {
+      const float magnification = k.SID * inverseZ;
+      g = k.Unbiased ? magnification * magnification * std::sqrt(1.0f + tu * tu + tv * tv) : 1.0f;
+      b.Row[s] = tv * k.SIDOverDV + k.RowShift;
+    }
+    else
+    {
+      g = k.Unbiased ? k.SID * inverseZ * std::sqrt(1.0f + tu * tu) : 1.0f;
+      b.Row[s] = pv * k.InverseDV + k.RowShift;
+    }
+    b.Column[s] = counts ? tu * k.SIDOverDU + k.ColumnShift : -4.0f;
+    b.TU[s] = tu;
+    b.TV[s] = tv;
+    b.Depth[s] = depth;
+    b.Weight[s] = counts ? w * g : 0.0f;
+    b.A[s] = counts ? w * g * inverseZ : 0.0f;
   }
-  return { (1.0 - fc) * (1.0 - fr) * g00 + fc * (1.0 - fr) * g10 + (1.0 - fc) * fr * g01 + fc * fr * g11,
-           (1.0 - fr) * (g10 - g00) + fr * (g11 - g01),
-           (1.0 - fc) * (g01 - g00) + fc * (g11 - g10),
-           true };
+  // 2. Read G bilinearly where the splat puts each point, with its derivatives (clamped as the splat clamps).
+  const float maxColumn = static_cast<float>(G.Columns + 1), maxRow = static_cast<float>(G.Rows + 1);
+  for (uint64_t s = 0; s < n; ++s)
+  {
+    const float   cs = std::min(maxColumn, std::max(0.0f, b.Column[s] + 1.0f));
+    const float   rs = std::min(maxRow, std::max(0.0f, b.Row[s] + 1.0f));
+    const int32_t c0 = static_cast<int32_t>(cs), r0 = static_cast<int32_t>(rs);
+    const float   fc = cs - static_cast<float>(c0), fr = rs - static_cast<float>(r0);
+    const float * row0 = G.Values.data() + static_cast<size_t>(r0) * static_cast<size_t>(G.Stride) + c0;
+    const float * row1 = row0 + G.Stride;
+    const float   g00 = row0[0], g10 = row0[1], g01 = row1[0], g11 = row1[1];
+    b.G[s] = (1.0f - fr) * ((1.0f - fc) * g00 + fc * g10) + fr * ((1.0f - fc) * g01 + fc * g11);
+    b.GC[s] = (1.0f - fr) * (g10 - g00) + fr * (g11 - g01);
+    b.GR[s] = (1.0f - fc) * (g01 - g00) + fc * (g11 - g10);
+  }
+  // 3. dPhi/dy = a (alpha_u u + alpha_v v + alpha_n n): the splat's move (grad G^ J_u) and, unbiased, the perspective
+  // weight's change (G^ grad g), with d depth / dy = -n and d tu / dy = (u + tu n) / z.
+  for (uint64_t s = 0; s < n; ++s)
+  {
+    if (VBeam == Beam::Parallel)
+    {
+      b.Alpha[0][s] = b.GC[s] * k.InverseDU;
+      b.Alpha[1][s] = b.GR[s] * k.InverseDV;
+      b.Alpha[2][s] = 0.0f;
+      continue;
+    }
+    const float tu = b.TU[s], tv = b.TV[s];
+    const float h = k.Unbiased ? b.G[s] : 0.0f; // the weight's derivative, none for the paper's count
+    const float gc = b.GC[s] * k.SIDOverDU;
+    if (VBeam == Beam::Cone)
+    {
+      const float s2 = 1.0f + tu * tu + tv * tv;
+      const float gr = b.GR[s] * k.SIDOverDV;
+      b.Alpha[0][s] = h * tu / s2 + gc;
+      b.Alpha[1][s] = h * tv / s2 + gr;
+      b.Alpha[2][s] = h * (2.0f + (tu * tu + tv * tv) / s2) + gc * tu + gr * tv;
+    }
+    else
+    {
+      const float s2 = 1.0f + tu * tu;
+      b.Alpha[0][s] = h * tu / s2 + gc;
+      b.Alpha[1][s] = b.GR[s] * k.InverseDV * b.Depth[s];
+      b.Alpha[2][s] = h * (1.0f + tu * tu / s2) + gc * tu;
+    }
+  }
+  // 4. Add up in double, point s to lane s % lanes (a fixed order: the same bits on any instruction set).
+  uint64_t s = 0;
+  for (; s + lanes <= n; s += lanes)
+  {
+    for (unsigned l = 0; l < lanes; ++l)
+    {
+      const double a = b.A[s + l];
+      sums.Value[l] += static_cast<double>(b.Weight[s + l]) * static_cast<double>(b.G[s + l]);
+      for (unsigned r = 0; r < 3; ++r)
+      {
+        const double aa = a * static_cast<double>(b.Alpha[r][s + l]);
+        sums.Alpha[r][l] += aa;
+        for (unsigned c = 0; c < 3; ++c)
+        {
+          sums.AlphaQ[r][c][l] += aa * static_cast<double>(b.Q[c][s + l]);
+        }
+      }
+    }
+  }
+  for (unsigned l = 0; s < n; ++s, ++l)
+  {
+    const double a = b.A[s];
+    sums.Value[l] += static_cast<double>(b.Weight[s]) * static_cast<double>(b.G[s]);
+    for (unsigned r = 0; r < 3; ++r)
+    {
+      const double aa = a * static_cast<double>(b.Alpha[r][s]);
+      sums.Alpha[r][l] += aa;
+      for (unsigned c = 0; c < 3; ++c)
+      {
+        sums.AlphaQ[r][c][l] += aa * static_cast<double>(b.Q[c][s]);
+      }
+    }
+  }
 }
 } // namespace
 
@@ -90,116 +251,89 @@ DRRPointPoseGradient::Compute(const DRRPointCloud &      cloud,
   {
     return moments;
   }
-  const double               scale = roomMass / (static_cast<double>(numberOfPoints) * projection.GetPixelArea());
-  const bool                 unbiased = weighting == WeightingEnum::Unbiased;
   const DRRPointProjection & P = projection;
-  const int64_t              columns = P.m_Columns, rows = P.m_Rows;
-  const float *              X = cloud.GetX();
-  const float *              Y = cloud.GetY();
-  const float *              Z = cloud.GetZ();
-  const float *              weights = cloud.GetWeights();
-  const uint64_t             chunkSize = DRRPointRenderer::SamplesPerChunk;
-  const uint64_t             numberOfChunks = (numberOfPoints + chunkSize - 1) / chunkSize;
-  std::vector<ChunkSums>     sums(numberOfChunks);
+  Coefficients               k;
+  k.PU0 = static_cast<float>(P.m_PU0);
+  k.PV0 = static_cast<float>(P.m_PV0);
+  k.Z0 = static_cast<float>(P.m_Z0);
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    k.GU[a] = static_cast<float>(P.m_GU[a]);
+    k.GV[a] = static_cast<float>(P.m_GV[a]);
+    k.GZ[a] = static_cast<float>(P.m_GZ[a]);
+    k.Center[a] = static_cast<float>(p0[a]);
+  }
+  k.SID = static_cast<float>(P.m_SID);
+  k.SIDOverDU = static_cast<float>(P.m_SIDOverDU);
+  k.SIDOverDV = static_cast<float>(P.m_SIDOverDV);
+  k.InverseDU = static_cast<float>(P.m_InverseDU);
+  k.InverseDV = static_cast<float>(P.m_InverseDV);
+  k.ColumnShift = static_cast<float>(P.m_ColumnShift);
+  k.RowShift = static_cast<float>(P.m_RowShift);
+  // Rounded up, as the render rounds it: no point nearer than the minimum depth counts.
+  k.MinimumDepth = static_cast<float>(P.m_MinimumDepth);
+  if (static_cast<double>(k.MinimumDepth) < P.m_MinimumDepth)
+  {
+    k.MinimumDepth = std::nextafter(k.MinimumDepth, std::numeric_limits<float>::infinity());
+  }
+  k.Unbiased = weighting == WeightingEnum::Unbiased;
+  const Beam            beam = !P.m_Perspective ? Beam::Parallel : (P.m_MagnifiesRows ? Beam::Cone : Beam::Localizer);
+  const PaddedImage     G = Pad(pixelWeights, static_cast<int32_t>(P.m_Columns), static_cast<int32_t>(P.m_Rows));
+  const float           scale = static_cast<float>(roomMass / (static_cast<double>(numberOfPoints) * P.GetPixelArea()));
+  const float *         weights = cloud.GetWeights();
+  const uint64_t        chunkSize = DRRPointRenderer::SamplesPerChunk;
+  const uint64_t        numberOfChunks = (numberOfPoints + chunkSize - 1) / chunkSize;
+  std::vector<LaneSums> sums(numberOfChunks);
 
-  const auto chunk = [&](unsigned int, uint64_t k) {
-    ChunkSums &    own = sums[k];
-    const uint64_t end = std::min(numberOfPoints, (k + 1) * chunkSize);
-    for (uint64_t i = k * chunkSize; i < end; ++i)
+  const auto chunk = [&](unsigned int, uint64_t c) {
+    LaneSums &             own = sums[c];
+    std::unique_ptr<Batch> batch(new Batch);
+    const uint64_t         end = std::min(numberOfPoints, (c + 1) * chunkSize);
+    for (uint64_t first = c * chunkSize; first < end; first += batchSize)
     {
-      const double p[3] = { X[i], Y[i], Z[i] };
-      const double pu = P.m_PU0 + P.m_GU[0] * p[0] + P.m_GU[1] * p[1] + P.m_GU[2] * p[2];
-      const double pv = P.m_PV0 + P.m_GV[0] * p[0] + P.m_GV[1] * p[1] + P.m_GV[2] * p[2];
-      const double w = scale * (weights ? static_cast<double>(weights[i]) : 1.0);
-      double       column, row, g, a, alpha[3];
-      if (!P.m_Perspective)
+      const uint64_t n = std::min(batchSize, end - first);
+      const float *  w = weights ? weights + first : nullptr;
+      const float *  X = cloud.GetX() + first;
+      const float *  Y = cloud.GetY() + first;
+      const float *  Z = cloud.GetZ() + first;
+      switch (beam)
       {
-        column = pu * P.m_InverseDU + P.m_ColumnShift;
-        row = pv * P.m_InverseDV + P.m_RowShift;
-        const BilinearRead G = ReadBilinear(pixelWeights, columns, rows, column, row);
-        if (!G.OnDetector)
-        {
-          continue;
-        }
-        g = 1.0;
-        a = w;
-        alpha[0] = G.AlongColumns * P.m_InverseDU;
-        alpha[1] = G.AlongRows * P.m_InverseDV;
-        alpha[2] = 0.0;
-        own.Value += w * G.Value;
+        case Beam::Cone:
+          RunBatch<Beam::Cone>(k, G, X, Y, Z, w, scale, n, *batch, own);
+          break;
+        case Beam::Localizer:
+          RunBatch<Beam::Localizer>(k, G, X, Y, Z, w, scale, n, *batch, own);
+          break;
+        case Beam::Parallel:
+          RunBatch<Beam::Parallel>(k, G, X, Y, Z, w, scale, n, *batch, own);
+          break;
       }
-      else
+      for (uint64_t s = 0; s < n; ++s)
       {
-        const double depth = P.m_Z0 + P.m_GZ[0] * p[0] + P.m_GZ[1] * p[1] + P.m_GZ[2] * p[2];
-        if (!(depth >= P.m_MinimumDepth && depth <= P.m_SID))
-        {
-          continue; // dropped by the render
-        }
-        const double inverseZ = 1.0 / depth;
-        const double tu = pu * inverseZ, tv = pv * inverseZ;
-        column = tu * P.m_SIDOverDU + P.m_ColumnShift;
-        const BilinearRead G =
-          ReadBilinear(pixelWeights,
-                       columns,
-                       rows,
-                       column,
-                       P.m_MagnifiesRows ? tv * P.m_SIDOverDV + P.m_RowShift : pv * P.m_InverseDV + P.m_RowShift);
-        if (!G.OnDetector)
-        {
-          continue;
-        }
-        // dPhi/dy = a (alpha_u u + alpha_v v + alpha_n n), a = w g / z: the splat's move (grad G^ J_u) and, unbiased,
-        // the perspective weight's change (G^ grad g); d depth / dy = -n, d tu / dy = (u + tu n) / z.
-        const double gc = G.AlongColumns * P.m_SIDOverDU;
-        if (P.m_MagnifiesRows)
-        {
-          const double s2 = 1.0 + tu * tu + tv * tv;
-          const double gr = G.AlongRows * P.m_SIDOverDV;
-          g = unbiased ? P.m_SID * P.m_SID * inverseZ * inverseZ * std::sqrt(s2) : 1.0;
-          const double h = unbiased ? G.Value : 0.0; // the weight's derivative, or none for the paper's count
-          alpha[0] = h * tu / s2 + gc;
-          alpha[1] = h * tv / s2 + gr;
-          alpha[2] = h * (2.0 + (tu * tu + tv * tv) / s2) + gc * tu + gr * tv;
-        }
-        else
-        {
-          // A localizer: a fan across, parallel along the rows (d row / dy = v / dv).
-          const double s2 = 1.0 + tu * tu;
-          g = unbiased ? P.m_SID * inverseZ * std::sqrt(s2) : 1.0;
-          const double h = unbiased ? G.Value : 0.0;
-          alpha[0] = h * tu / s2 + gc;
-          alpha[1] = G.AlongRows * P.m_InverseDV * depth;
-          alpha[2] = h * (1.0 + tu * tu / s2) + gc * tu;
-        }
-        a = w * g * inverseZ;
-        own.Value += w * g * G.Value;
-      }
-      ++own.OnDetector;
-      const double q[3] = { p[0] - p0[0], p[1] - p0[1], p[2] - p0[2] };
-      for (unsigned int r = 0; r < 3; ++r)
-      {
-        const double aa = a * alpha[r];
-        own.Alpha[r] += aa;
-        own.AlphaIndex[r][0] += aa * q[0];
-        own.AlphaIndex[r][1] += aa * q[1];
-        own.AlphaIndex[r][2] += aa * q[2];
+        own.OnDetector += batch->A[s] != 0.0f && batch->Column[s] > -1.0f && batch->Row[s] > -1.0f &&
+                          batch->Column[s] < static_cast<float>(P.m_Columns) &&
+                          batch->Row[s] < static_cast<float>(P.m_Rows);
       }
     }
   };
   DRRWorkScheduler::Run(threader, numberOfChunks, chunk, nullptr);
 
-  // In chunk order: the same bits on any number of threads.
-  ChunkSums total;
-  for (const ChunkSums & own : sums)
+  // Chunks, then lanes, in order: the same bits on any number of threads.
+  double   value = 0.0, alpha[3] = { 0.0, 0.0, 0.0 }, alphaQ[3][3] = { { 0.0 } };
+  uint64_t onDetector = 0;
+  for (const LaneSums & own : sums)
   {
-    total.Value += own.Value;
-    total.OnDetector += own.OnDetector;
-    for (unsigned int r = 0; r < 3; ++r)
+    onDetector += own.OnDetector;
+    for (unsigned l = 0; l < lanes; ++l)
     {
-      total.Alpha[r] += own.Alpha[r];
-      for (unsigned int c = 0; c < 3; ++c)
+      value += own.Value[l];
+      for (unsigned r = 0; r < 3; ++r)
       {
-        total.AlphaIndex[r][c] += own.AlphaIndex[r][c];
+        alpha[r] += own.Alpha[r][l];
+        for (unsigned c = 0; c < 3; ++c)
+        {
+          alphaQ[r][c] += own.AlphaQ[r][c][l];
+        }
       }
     }
   }
@@ -208,7 +342,7 @@ DRRPointPoseGradient::Compute(const DRRPointCloud &      cloud,
   const VectorType frame[3] = { P.m_U, P.m_V, P.m_Normal };
   for (unsigned int r = 0; r < 3; ++r)
   {
-    moments.Sum += frame[r] * total.Alpha[r];
+    moments.Sum += frame[r] * alpha[r];
   }
   for (unsigned int i = 0; i < 3; ++i)
   {
@@ -219,14 +353,14 @@ DRRPointPoseGradient::Compute(const DRRPointCloud &      cloud,
       {
         for (unsigned int c = 0; c < 3; ++c)
         {
-          m += frame[r][i] * total.AlphaIndex[r][c] * P.m_IndexToRoom[j][c];
+          m += frame[r][i] * alphaQ[r][c] * P.m_IndexToRoom[j][c];
         }
       }
       moments.Moment[i][j] = m;
     }
   }
-  moments.Value = total.Value;
-  moments.PointsOnDetector = total.OnDetector;
+  moments.Value = value;
+  moments.PointsOnDetector = onDetector;
   return moments;
 }
 } // namespace itk

@@ -21,6 +21,7 @@
 
 #include "itkDRRImageSimilarity.h"
 #include "itkImageFileWriter.h"
+#include "itkPointBasedDRRRegistrationMethod.h"
 #include "itkMultiThreaderBase.h"
 
 #include <algorithm>
@@ -48,6 +49,80 @@ ParsePose(const std::vector<std::string> & words)
     throw UsageError("--start angles are in degrees, within +-180");
   }
   return pose;
+}
+
+/** One level of --levels: SHRINK[:POINTS[:SIGMA]] (0 points, sigma -1: not given). */
+struct Level
+{
+  unsigned Shrink{ 1 };
+  uint64_t Samples{ 0 };
+  double   Sigma{ -1.0 };
+};
+
+/** A comma-separated list of levels, coarse to fine, each SHRINK[:POINTS[:SIGMA_MM]]. */
+std::vector<Level>
+ParseLevels(std::string text, const std::string & flag)
+{
+  const std::string usage = flag + " expects levels SHRINK[:POINTS[:SIGMA]], coarse to fine, comma separated (shrink " +
+                            "a whole factor from 1 to 64, points as --samples, sigma in mm), e.g. 4:5e5:2,2:1e6";
+  std::replace(text.begin(), text.end(), ',', ' ');
+  std::istringstream stream(text);
+  std::vector<Level> levels;
+  for (std::string word; stream >> word;)
+  {
+    std::vector<std::string> parts;
+    std::istringstream       fields(word);
+    for (std::string field; std::getline(fields, field, ':');)
+    {
+      parts.push_back(field);
+    }
+    if (parts.empty() || parts.size() > 3 || parts[0].empty())
+    {
+      throw UsageError(usage);
+    }
+    Level        level;
+    const double shrink = ParseNumber(parts[0], flag);
+    if (shrink < 1 || shrink > 64 || shrink != std::floor(shrink))
+    {
+      throw UsageError(usage);
+    }
+    level.Shrink = static_cast<unsigned>(shrink);
+    if (parts.size() > 1)
+    {
+      level.Samples = ParseSampleCount(parts[1]);
+    }
+    if (parts.size() > 2)
+    {
+      level.Sigma = ParseNumber(parts[2], flag);
+      if (!(level.Sigma >= 0.0) || level.Sigma > 1000.0)
+      {
+        throw UsageError(usage);
+      }
+    }
+    levels.push_back(level);
+  }
+  if (levels.empty())
+  {
+    throw UsageError(usage);
+  }
+  return levels;
+}
+
+const std::vector<std::string> &
+OptimizerNames()
+{
+  return itk::PointBasedDRRRegistrationMethod<VolumeType>::GetOptimizerNames();
+}
+
+std::string
+JoinedOptimizerNames(const std::string & separator)
+{
+  std::string joined;
+  for (const std::string & name : OptimizerNames())
+  {
+    joined += (joined.empty() ? "" : separator) + name;
+  }
+  return joined;
 }
 
 /** values -> 0..255 by their 1st and 99th percentiles over the mask (as many pixels as values). */
@@ -192,22 +267,67 @@ ParseRegisterCommandLine(const std::vector<std::string> & arguments)
     }
     else if (word == "--shrink")
     {
+      const std::vector<Level> levels = ParseLevels(value(i, 1)[0], word);
       options.settings.Shrink.clear();
-      std::string text = value(i, 1)[0];
-      std::replace(text.begin(), text.end(), ',', ' ');
-      std::istringstream stream(text);
-      for (std::string factor; stream >> factor;)
+      for (const Level & level : levels)
       {
-        const double f = ParseNumber(factor, "--shrink");
-        if (f < 1 || f > 64 || f != std::floor(f))
+        if (level.Samples > 0 || level.Sigma >= 0.0)
         {
-          throw UsageError("--shrink expects whole factors from 1 to 64, e.g. 4,2");
+          throw UsageError("--shrink expects whole factors from 1 to 64, e.g. 4,2 (--levels takes points and sigmas)");
         }
-        options.settings.Shrink.push_back(static_cast<unsigned>(f));
+        options.settings.Shrink.push_back(level.Shrink);
       }
-      if (options.settings.Shrink.empty())
+    }
+    else if (word == "--levels")
+    {
+      const std::vector<Level> levels = ParseLevels(value(i, 1)[0], word);
+      options.settings.Shrink.clear();
+      options.settings.LevelSamples.clear();
+      options.settings.LevelSigmas.clear();
+      const bool samples = std::any_of(levels.begin(), levels.end(), [](const Level & l) { return l.Samples > 0; });
+      const bool sigmas = std::any_of(levels.begin(), levels.end(), [](const Level & l) { return l.Sigma >= 0.0; });
+      for (const Level & level : levels)
       {
-        throw UsageError("--shrink expects whole factors from 1 to 64, e.g. 4,2");
+        if (samples && level.Samples == 0)
+        {
+          throw UsageError("--levels: give the points of every level, or of none (e.g. 4:5e5,2:1e6)");
+        }
+        options.settings.Shrink.push_back(level.Shrink);
+        if (samples)
+        {
+          options.settings.LevelSamples.push_back(level.Samples);
+        }
+        if (sigmas)
+        {
+          options.settings.LevelSigmas.push_back(std::max(0.0, level.Sigma));
+        }
+      }
+    }
+    else if (word == "--optimizer")
+    {
+      const std::string name = value(i, 1)[0];
+      const auto &      names = OptimizerNames();
+      if (std::find(names.begin(), names.end(), name) == names.end())
+      {
+        throw UsageError("--optimizer expects " + JoinedOptimizerNames(" or ") + ", got '" + name + "'");
+      }
+      options.settings.Optimizer = name;
+    }
+    else if (word == "--starts")
+    {
+      const double starts = ParseNumber(value(i, 1)[0], "--starts");
+      if (starts < 1 || starts > 1000 || starts != std::floor(starts))
+      {
+        throw UsageError("--starts expects a whole number from 1 to 1000");
+      }
+      options.settings.Starts = static_cast<unsigned>(starts);
+    }
+    else if (word == "--start-radius")
+    {
+      options.settings.StartRadius = ParseNumber(value(i, 1)[0], "--start-radius");
+      if (!(options.settings.StartRadius >= 0.0) || options.settings.StartRadius > 180.0)
+      {
+        throw UsageError("--start-radius expects mm and degrees from 0 to 180");
       }
     }
     else if (word == "--threads")
@@ -267,8 +387,17 @@ ParseRegisterCommandLine(const std::vector<std::string> & arguments)
 std::string
 RegisterHelpText()
 {
-  std::string metric = "  --metric " + itk::DRRImageSimilarity::JoinMetricNames("|");
-  metric.resize(std::max<size_t>(metric.size() + 1, 26), ' ');
+  const auto pad = [](std::string text) {
+    text.resize(std::max<size_t>(text.size() + 1, 26), ' ');
+    return text;
+  };
+  using MethodType = itk::PointBasedDRRRegistrationMethod<VolumeType>;
+  std::string schedule;
+  for (const unsigned shrink : MethodType::New()->GetShrinkFactorsPerLevel())
+  {
+    schedule += (schedule.empty() ? "" : ",") + std::to_string(shrink);
+  }
+  const auto metric = MethodType::MetricType::New();
   return R"(pbdrr register - the rigid pose of a CT that matches its DRRs to real X-rays
 
 Usage: pbdrr register CT --xray X [--xray Y ...] -o OUT.png [options]
@@ -278,6 +407,8 @@ CT      a DICOM series directory, an export root or a volume ITK reads (HU), as 
   --geometry FILE         its view as a geometry file (as pbdrr --geometry reads it: where the file is silent,
                           512 x 512 pixels of 1.2 mm about the CT's centre), or
   --projection-matrix FILE  its view as a 3 x 4 projection matrix
+                        Two or more X-rays are registered jointly (biplane: a second view fixes the depth one
+                        view sees only as magnification).
 -o OUT.png              the DRR at the pose (OUT.N.png for the N-th of several X-rays) and OUT.checkerboard.png,
                         the DRR and the X-ray in alternate 32-pixel squares
 
@@ -285,28 +416,41 @@ The pose is the CT moved in the room, x -> R (x - c) + c + t (c: the centre of t
 about z, then x, then y, as itk::Euler3DTransform); identity is where the scanner's frame of reference puts it.
 The similarity is the gradient correlation (GC: the NCC of the images' row and column differences) of DRR and
 X-ray, or their normalized cross-correlation (NCC), over the field both cover (the pixels whose
-rays cross the CT), mean over the X-rays: blind to the X-ray's gain, offset and units. Powell's method maximizes it on
-a multi-resolution schedule.
+rays cross the CT), mean over the X-rays: blind to the X-ray's gain, offset and units. The DRRs are kept points
+re-projected at every pose, and the similarity's derivative comes from one backward pass over them
+(itk::PointBasedDRRMetricv4): an ITK v4 optimizer follows it on a multi-resolution schedule.
 
 Options:
   --start TX TY TZ RX RY RZ   the starting pose: mm and degrees (default 0 0 0 0 0 0)
-)" + metric +
+)" + pad("  --metric " + itk::DRRImageSimilarity::JoinMetricNames("|")) +
          R"(the similarity: gc, the gradient correlation (default: edges only, blind to a
                           table or holder outside the CT's field, scatter, a heel effect), or ncc, the
                           normalized cross-correlation of the images
-  --shrink F[,F...]       the schedule: detector binning per level (default 2,1: the last level at full resolution,
-                          where the gradients decide the rotations out of the view's plane)
-  --samples N             points per DRR, kept and re-projected at every pose (default 4M)
-  --exact siddon          the exact Siddon projector instead of points (no noise, slower per DRR)
+)" + pad("  --optimizer " + JoinedOptimizerNames("|")) +
+         "the ITK v4 optimizer (default " + MethodType::DefaultOptimizerName +
+         R"(): rsgd regular-step gradient descent,
+                          lbfgsb L-BFGS-B, cg conjugate gradient with a line search; powell and amoeba
+                          (Nelder-Mead) use no derivative (powell is the default with --exact)
+  --levels S[:N[:SIGMA]],...  the schedule, coarse to fine: per level the detector binning S, the kept points N
+                          and a Gaussian smoothing of DRR and X-ray, SIGMA mm at the detector (default )" +
+         schedule + R"(,
+                          every level with --samples points, no smoothing)
+  --shrink S[,S...]       the schedule's binnings alone (as --levels S,S)
+  --samples N             points per DRR, kept and re-projected at every pose (default )" +
+         std::to_string(metric->GetNumberOfSamples()) + R"()
+  --starts K              the global stage: the first level run from K starts, the best goes on (default 1)
+  --start-radius R        the spread of those starts about --start: up to R mm and R degrees per axis (default 10)
+  --exact siddon          the exact Siddon projector instead of points (no noise, no derivative: powell)
   --seed S                the points' seed (default 0): the same seed, the same pose on any thread count
   --max-seconds T         stop after T seconds with the best pose so far (says so)
   --series UID            the DICOM series of the CT
   --threads T             worker threads (default: all cores)
-  --verbose, -v           each level's similarity and pose     --quiet, -q   only the result lines
+  --verbose, -v           each level's similarity, pose and stop     --quiet, -q   only the result lines
 
 Prints:
   pose: tx ty tz rx ry rz      (mm, degrees)
   similarity: S                (the metric at full resolution; and the start's on the first level)
+  time: T s, N DRRs            (N poses rendered, M of them with the derivative)
 )";
 }
 
@@ -352,7 +496,8 @@ RunRegister(const RegisterOptions & options)
             << result.Pose[2] << " " << result.Pose[3] << " " << result.Pose[4] << " " << result.Pose[5] << "\n"
             << std::setprecision(4) << "similarity: " << result.Similarity << " (" << options.settings.Metric
             << "; at the start " << result.StartSimilarity << " on the first level)\n"
-            << std::setprecision(2) << "time: " << result.Seconds << " s, " << result.Evaluations << " DRRs"
+            << std::setprecision(2) << "time: " << result.Seconds << " s, " << result.Evaluations << " DRRs ("
+            << result.DerivativeEvaluations << " with the derivative)"
             << (result.StoppedByTime ? ", stopped at --max-seconds: the best pose so far" : "") << std::endl;
   for (size_t x = 0; x < xrays.size(); ++x)
   {

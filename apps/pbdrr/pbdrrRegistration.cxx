@@ -19,6 +19,7 @@
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrView.h"
 
+#include "itkDRRImageSimilarity.h"
 #include "itkDRRProjectionMatrixFileIO.h"
 #include "itkImageFileReader.h"
 #include "itkPointBasedDRRRegistrationMethod.h"
@@ -181,13 +182,27 @@ RegisterToXRays(const TVolume * volume, const std::vector<XRay> & xrays, const R
   typename MethodType::PoseType start;
   std::copy(settings.StartPose.begin(), settings.StartPose.end(), start.Begin());
   method->SetStartPose(start);
-  method->SetShrinkFactorsPerLevel(settings.Shrink);
-  method->SetMetric(settings.Metric);
-  method->SetUseExactProjector(settings.Exact);
-  method->SetExactRaysPerPixelSide(settings.ExactRaysPerSide);
-  method->SetNumberOfSamples(settings.Samples);
-  method->SetSeed(settings.Seed);
+  if (!settings.Shrink.empty())
+  {
+    method->SetShrinkFactorsPerLevel(settings.Shrink);
+  }
+  method->SetNumberOfSamplesPerLevel(settings.LevelSamples);
+  method->SetSmoothingSigmasPerLevel(settings.LevelSigmas);
+  method->SetNumberOfStarts(settings.Starts);
+  method->SetStartRadius(settings.StartRadius);
   method->SetMaximumTimeInSeconds(settings.MaxSeconds);
+  if (!settings.Optimizer.empty())
+  {
+    method->SetOptimizer(MethodType::MakeOptimizer(settings.Optimizer));
+  }
+  auto * metric = method->GetModifiableMetric();
+  metric->SetSimilarity(itk::DRRImageSimilarity::FromName(settings.Metric));
+  metric->SetExactRaysPerPixelSide(settings.Exact ? settings.ExactRaysPerSide : 0);
+  if (settings.Samples > 0)
+  {
+    metric->SetNumberOfSamples(settings.Samples);
+  }
+  metric->SetSeed(settings.Seed);
   if (settings.Threads > 0)
   {
     method->SetNumberOfWorkUnits(settings.Threads);
@@ -195,12 +210,13 @@ RegisterToXRays(const TVolume * volume, const std::vector<XRay> & xrays, const R
   if (settings.Verbose)
   {
     const MethodType * observed = method;
-    method->AddObserver(itk::IterationEvent(), [observed](const itk::EventObject &) {
+    method->AddObserver(itk::IterationEvent(), [observed, &settings](const itk::EventObject &) {
       const auto pose = observed->GetCurrentPose();
-      std::cerr << "pbdrr: register: level 1/" << observed->GetCurrentShrinkFactor() << ": " << observed->GetMetric()
-                << " " << observed->GetCurrentLevelSimilarity() << " after " << observed->GetCurrentLevelEvaluations()
+      std::cerr << "pbdrr: register: level " << observed->GetCurrentLevel() + 1 << " (1/"
+                << observed->GetCurrentShrinkFactor() << "): " << settings.Metric << " "
+                << observed->GetCurrentLevelSimilarity() << " after " << observed->GetCurrentLevelEvaluations()
                 << " DRRs, pose " << pose[0] << " " << pose[1] << " " << pose[2] << " " << pose[3] << " " << pose[4]
-                << " " << pose[5] << std::endl;
+                << " " << pose[5] << "; " << observed->GetCurrentStopCondition() << std::endl;
     });
   }
   method->Update();
@@ -211,6 +227,7 @@ RegisterToXRays(const TVolume * volume, const std::vector<XRay> & xrays, const R
   result.StartSimilarity = method->GetStartSimilarity();
   result.Similarity = method->GetSimilarity();
   result.Evaluations = static_cast<unsigned>(method->GetNumberOfEvaluations());
+  result.DerivativeEvaluations = static_cast<unsigned>(method->GetNumberOfDerivativeEvaluations());
   result.Seconds = method->GetElapsedSeconds();
   result.StoppedByTime = method->GetStoppedByTimeLimit();
   for (unsigned x = 0; x < method->GetNumberOfXRays(); ++x)

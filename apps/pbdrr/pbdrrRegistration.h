@@ -61,15 +61,23 @@ XRayViewOfFile(const std::string & geometryFile, const itk::ImageBase<3> * volum
 struct RegistrationSettings
 {
   std::array<double, 6> StartPose{}; // tx ty tz (mm) rx ry rz (degrees)
-  std::vector<unsigned> Shrink{ 2, 1 };
+  /** The schedule: one detector shrink factor per level (empty: the method's default), and per level the kept points
+   * (empty: Samples on every level) and the smoothing sigma in mm (empty: none). */
+  std::vector<unsigned> Shrink;
+  std::vector<uint64_t> LevelSamples;
+  std::vector<double>   LevelSigmas;
   bool                  Exact{ false }; // the exact Siddon projector instead of kept points
-  /** The exact projector's rays per pixel side (SetExactRaysPerPixelSide()). */
+  /** The exact projector's rays per pixel side (PointBasedDRRMetricv4::SetExactRaysPerPixelSide()). */
   unsigned ExactRaysPerSide{ 2 };
   /** The similarity: one of itk::DRRImageSimilarity::GetMetricNames() ("ncc" or "gc"). */
   std::string Metric{ "gc" };
-  uint64_t    Samples{ 4000000 };
+  /** The optimizer: one of itk::PointBasedDRRRegistrationMethod's GetOptimizerNames() (empty: its default). */
+  std::string Optimizer;
+  uint64_t    Samples{ 0 }; // kept points (0: the metric's default)
   uint64_t    Seed{ 0 };
-  double      MaxSeconds{ 0.0 }; // 0: no limit
+  unsigned    Starts{ 1 };         // the global stage's starts on the first level
+  double      StartRadius{ 10.0 }; // their spread about the start, mm and degrees
+  double      MaxSeconds{ 0.0 };   // 0: no limit
   unsigned    Threads{ 0 };
   bool        Verbose{ false }; // each level's similarity and pose on stderr
 };
@@ -81,6 +89,7 @@ struct RegistrationResult
   double                                                  StartSimilarity{ 0.0 };
   double                                                  Similarity{ 0.0 }; // at full resolution, mean over X-rays
   unsigned                                                Evaluations{ 0 };
+  unsigned                                                DerivativeEvaluations{ 0 }; // of those, with a derivative
   double                                                  Seconds{ 0.0 };
   bool                                                    StoppedByTime{ false };
   std::vector<itk::Image<float, 2>::ConstPointer>         FinalDRRs; // at full resolution, one per X-ray
