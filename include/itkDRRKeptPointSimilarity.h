@@ -57,7 +57,9 @@ namespace itk
  *
  * What the derivative is of: the kept points' bilinear render, exactly (its noise is frozen with the points), almost
  * everywhere (the splat has kinks at the pixels' centre lines). The smoothing is a symmetric Gaussian with zero
- * padding, its own adjoint. The field is fixed at Prepare() (a piecewise-constant function of the pose, whose
+ * padding, its own adjoint; the field then leaves out the pixels whose smoothed value reads a pixel outside it (a DRR
+ * is zero where no ray crosses the CT, an X-ray goes on: their step, blurred in, would be an edge of the DRR's own
+ * making). The field is fixed at Prepare() (a piecewise-constant function of the pose, whose
  * derivative is 0): within one Prepare(), the value is continuous in the pose. There is no control variate: its coarse
  * image is a ray trace per pose, which is what kept points avoid, and its derivative lives on the coarse blocks' faces.
  *

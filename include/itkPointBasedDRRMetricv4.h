@@ -323,6 +323,12 @@ public:
   ScalesType
   ComputeParameterScales() const;
 
+  /** The largest displacement (mm) of those points (the kept points, or the attenuating voxels of a subgrid) for a
+   * step of the parameters, to first order: what an optimizer's step does in the room (the scales estimator's
+   * EstimateStepScale()). After Initialize(). */
+  double
+  ComputeMaximumDisplacement(const ParametersType & step) const;
+
   /** The centre of the CT's grid (the physical point of its central continuous index), mm: where to centre the moving
    * transform. After Initialize() or with a CT set. */
   Point<double, 3>
@@ -333,6 +339,11 @@ public:
 
   /** The number of evaluations of the value with its derivative since Initialize(). */
   itkGetConstMacro(NumberOfDerivativeEvaluations, SizeValueType);
+
+  /** The attenuation model the DRRs are rendered from: the shared one, or the CT's, built at Initialize() (null
+   * before). */
+  const AttenuationVolumeType *
+  GetAttenuationModel() const;
 
   /** The kept points (null before Initialize()). */
   const DRRPointCloud *
@@ -352,9 +363,10 @@ protected:
 private:
   using StageType = DRRImageToAttenuationVolumeFilter<VolumeImageType>;
 
-  /** The model the points are drawn from (after Initialize()). */
-  const AttenuationVolumeType *
-  GetModel() const;
+  /** For a few thousand points that stand for the CT's attenuation, the 3 x P matrix of their motion in the room per
+   * unit of each parameter (-A^-1 dT/dtheta at their room positions). */
+  std::vector<vnl_matrix<double>>
+  ComputeSampleMotions() const;
 
   /** Evaluates at the moving transform's pose; derivative may be null. */
   MeasureType

@@ -114,7 +114,7 @@ PointBasedDRRMetricv4<TVolumeImage>::GetNumberOfWorkUnits() const
 
 template <typename TVolumeImage>
 auto
-PointBasedDRRMetricv4<TVolumeImage>::GetModel() const -> const AttenuationVolumeType *
+PointBasedDRRMetricv4<TVolumeImage>::GetAttenuationModel() const -> const AttenuationVolumeType *
 {
   return m_AttenuationVolume ? m_AttenuationVolume.GetPointer() : (m_Stage ? m_Stage->GetOutput() : nullptr);
 }
@@ -149,7 +149,7 @@ PointBasedDRRMetricv4<TVolumeImage>::Initialize()
   {
     itkExceptionMacro("no sampler (SetSampler())");
   }
-  const AttenuationVolumeType * model = this->GetModel();
+  const AttenuationVolumeType * model = this->GetAttenuationModel();
   if (!m_MovingTransform)
   {
     auto transform = Euler3DTransform<double>::New();
@@ -342,7 +342,7 @@ PointBasedDRRMetricv4<TVolumeImage>::ComputeVolumeCenter() const
   {
     return DRRProjectionGeometry::ComputeImageCenter(m_Volume);
   }
-  const AttenuationVolumeType * model = this->GetModel();
+  const AttenuationVolumeType * model = this->GetAttenuationModel();
   if (!model)
   {
     itkExceptionMacro("no CT (SetVolume()) and no attenuation model (SetAttenuationVolume())");
@@ -362,12 +362,12 @@ PointBasedDRRMetricv4<TVolumeImage>::ComputeVolumeCenter() const
 
 template <typename TVolumeImage>
 auto
-PointBasedDRRMetricv4<TVolumeImage>::ComputeParameterScales() const -> ScalesType
+PointBasedDRRMetricv4<TVolumeImage>::ComputeSampleMotions() const -> std::vector<vnl_matrix<double>>
 {
-  const AttenuationVolumeType * model = this->GetModel();
+  const AttenuationVolumeType * model = this->GetAttenuationModel();
   if (!model || !m_MovingTransform)
   {
-    itkExceptionMacro("ComputeParameterScales() needs the model and the transform: call Initialize() first");
+    itkExceptionMacro("the parameter scales need the model and the transform: call Initialize() first");
   }
   // A few thousand positions (continuous indices) that stand for the attenuation: kept points, or, for the exact
   // projector, the attenuating voxels of a regular subgrid.
@@ -401,17 +401,17 @@ PointBasedDRRMetricv4<TVolumeImage>::ComputeParameterScales() const -> ScalesTyp
   }
   if (positions.empty())
   {
-    itkExceptionMacro("ComputeParameterScales(): the volume has no attenuation to move");
+    itkExceptionMacro("the volume has no attenuation to move: no parameter scales");
   }
   DRRPointProjection::MatrixType matrix;
   DRRPointProjection::VectorType offset;
   DRRKeptPointSimilarity::GetLinearPart(*m_MovingTransform, matrix, offset);
-  const auto inverse = matrix.GetInverse();
-  const auto indexToPhysical = model->GetIndexToPhysicalMatrix();
-  const auto count = m_MovingTransform->GetNumberOfParameters();
-  ScalesType scales(count);
-  scales.Fill(0.0);
+  const auto                                 inverse = matrix.GetInverse();
+  const auto                                 indexToPhysical = model->GetIndexToPhysicalMatrix();
+  const unsigned int                         count = m_MovingTransform->GetNumberOfParameters();
   typename MovingTransformType::JacobianType jacobian;
+  std::vector<vnl_matrix<double>>            motions;
+  motions.reserve(positions.size());
   for (const auto & index : positions)
   {
     // The position in the CT's frame, then in the room (y = A^-1 (x - b)), where it moves by -A^-1 dT/dtheta.
@@ -430,19 +430,54 @@ PointBasedDRRMetricv4<TVolumeImage>::ComputeParameterScales() const -> ScalesTyp
       y[r] = inverse[r][0] * x[0] + inverse[r][1] * x[1] + inverse[r][2] * x[2];
     }
     m_MovingTransform->ComputeJacobianWithRespectToParameters(y, jacobian);
+    vnl_matrix<double> motion(3, count);
     for (unsigned int j = 0; j < count; ++j)
     {
-      double squared = 0.0;
       for (unsigned int r = 0; r < 3; ++r)
       {
-        const double move =
-          inverse[r][0] * jacobian(0, j) + inverse[r][1] * jacobian(1, j) + inverse[r][2] * jacobian(2, j);
-        squared += move * move;
+        motion(r, j) =
+          -(inverse[r][0] * jacobian(0, j) + inverse[r][1] * jacobian(1, j) + inverse[r][2] * jacobian(2, j));
       }
-      scales[j] += squared / static_cast<double>(positions.size());
+    }
+    motions.push_back(motion);
+  }
+  return motions;
+}
+
+template <typename TVolumeImage>
+auto
+PointBasedDRRMetricv4<TVolumeImage>::ComputeParameterScales() const -> ScalesType
+{
+  const std::vector<vnl_matrix<double>> motions = this->ComputeSampleMotions();
+  const unsigned int                    count = this->GetNumberOfParameters();
+  ScalesType                            scales(count);
+  scales.Fill(0.0);
+  for (const vnl_matrix<double> & motion : motions)
+  {
+    for (unsigned int j = 0; j < count; ++j)
+    {
+      scales[j] += motion.get_column(j).squared_magnitude() / static_cast<double>(motions.size());
     }
   }
   return scales;
+}
+
+template <typename TVolumeImage>
+double
+PointBasedDRRMetricv4<TVolumeImage>::ComputeMaximumDisplacement(const ParametersType & step) const
+{
+  const std::vector<vnl_matrix<double>> motions = this->ComputeSampleMotions();
+  if (step.GetSize() != this->GetNumberOfParameters())
+  {
+    itkExceptionMacro("a step of " << step.GetSize() << " parameters for a transform of "
+                                   << this->GetNumberOfParameters());
+  }
+  double largest = 0.0;
+  for (const vnl_matrix<double> & motion : motions)
+  {
+    largest = std::max(largest, (motion * step).magnitude());
+  }
+  return largest;
 }
 
 template <typename TVolumeImage>

@@ -718,11 +718,11 @@ PointBasedDRRRegistrationMethod<TInputImage>::GenerateData()
         units[j] = std::sqrt(std::max(scales[j], 1e-12));
       }
     }
-    watched->Watch(metric, units, deadline);
     if (level == 0)
     {
-      m_StartSimilarity = -watched->GetValue();
+      m_StartSimilarity = -metric->GetValue(); // outside the search and its time limit
     }
+    watched->Watch(metric, units, deadline);
     // The global stage on the first level: the best end of several starts goes on.
     const unsigned int                  starts = level == 0 ? m_NumberOfStarts : 1;
     double                              best = std::numeric_limits<double>::infinity();

@@ -126,6 +126,50 @@ Smooth(std::vector<double> & image, const DRRProjectionGeometry & geometry, doub
   Convolve(image, columns, rows, GaussianKernel(sigma / geometry.GetDetectorSpacing()[1]), false);
 }
 
+/** The field without the pixels whose smoothed value reads a pixel outside it (within the Gaussian's support): the
+ * DRR is zero where no ray crosses the CT while the X-ray goes on, and that step, blurred into the field, would be an
+ * edge of the DRR's own making. */
+std::vector<uint8_t>
+ErodeBySmoothing(const std::vector<uint8_t> & field, const DRRProjectionGeometry & geometry, double sigma)
+{
+  if (!(sigma > 0.0))
+  {
+    return field;
+  }
+  const int64_t columns = static_cast<int64_t>(geometry.GetDetectorSize()[0]);
+  const int64_t rows = static_cast<int64_t>(geometry.GetDetectorSize()[1]);
+  const int64_t reach[2] = { static_cast<int64_t>(GaussianKernel(sigma / geometry.GetDetectorSpacing()[0]).size() / 2),
+                             static_cast<int64_t>(GaussianKernel(sigma / geometry.GetDetectorSpacing()[1]).size() /
+                                                  2) };
+  // Along the columns, then along the rows: a pixel stays if every pixel of its kernel's box is in the field.
+  std::vector<uint8_t> along(field.size(), 0), eroded(field.size(), 0);
+  for (int64_t r = 0; r < rows; ++r)
+  {
+    for (int64_t c = 0; c < columns; ++c)
+    {
+      bool inside = c - reach[0] >= 0 && c + reach[0] < columns;
+      for (int64_t k = -reach[0]; inside && k <= reach[0]; ++k)
+      {
+        inside = field[r * columns + c + k] != 0;
+      }
+      along[r * columns + c] = inside ? 1 : 0;
+    }
+  }
+  for (int64_t r = 0; r < rows; ++r)
+  {
+    for (int64_t c = 0; c < columns; ++c)
+    {
+      bool inside = r - reach[1] >= 0 && r + reach[1] < rows;
+      for (int64_t k = -reach[1]; inside && k <= reach[1]; ++k)
+      {
+        inside = along[(r + k) * columns + c] != 0;
+      }
+      eroded[r * columns + c] = inside ? 1 : 0;
+    }
+  }
+  return eroded;
+}
+
 using MatrixOffsetType = MatrixOffsetTransformBase<double, 3, 3>;
 } // namespace
 
@@ -375,7 +419,8 @@ DRRKeptPointSimilarity::Prepare(const DRRAttenuationVolume & model,
     Smooth(smoothed, *view.Geometry, settings.SmoothingSigma);
     view.XRay.assign(smoothed.begin(), smoothed.end());
     const DRRPointProjection projection(*view.Geometry, model, matrix, offset);
-    view.Field = CoveredField(*view.Geometry, projection, volumeSize);
+    view.Field =
+      ErodeBySmoothing(CoveredField(*view.Geometry, projection, volumeSize), *view.Geometry, settings.SmoothingSigma);
     const size_t covered = static_cast<size_t>(std::count(view.Field.begin(), view.Field.end(), uint8_t{ 1 }));
     if (covered < 3)
     {

@@ -24,7 +24,9 @@ use them):
   itk::LightObject, Object, DataObject, ProcessObject; itk::ImageSource of every wrapped scalar image;
   itk::ImageToImageFilter between any two wrapped scalar types of one dimension and between two dimensions within
   one scalar type (ITKCommon's itkImageSource.wrap and itkImageToImageFilterA/B.wrap);
-  itk::InterpolateImageFunction of every wrapped scalar image with double coordinates (ITKImageFunction).
+  itk::InterpolateImageFunction of every wrapped scalar image with double coordinates (ITKImageFunction);
+  itk::ObjectToObjectMetricBaseTemplate<double> and itk::OptimizerParameterScalesEstimatorTemplate<double>
+  (ITKOptimizersv4).
 
 Not emulated: any other ITK wrapping command (itk_wrap_image_filter, itk_wrap_image_filter_combinations,
 itk_wrap_filter_dims, UNIQUE, INTERSECTION, ...): a .wrap that calls one stops with CMake's "Unknown CMake command";
@@ -134,6 +136,10 @@ foreach(d1 ${ITK_WRAP_IMAGE_DIMS})
     list(APPEND WRAPITK_STUB_ITK_WRAPPED "itk::ImageSource|${image}" "itk::InterpolateImageFunction|${image},double")
   endforeach()
 endforeach()
+# ITKOptimizersv4's itkObjectToObjectMetricBase.wrap and itkOptimizerParameterScalesEstimator.wrap (double, and the
+# real pixel types).
+list(APPEND WRAPITK_STUB_ITK_WRAPPED "itk::ObjectToObjectMetricBaseTemplate|double"
+     "itk::OptimizerParameterScalesEstimatorTemplate|double")
 
 # --- State and errors ----------------------------------------------------------------------------------------------
 set_property(GLOBAL PROPERTY WRAPITK_STUB_RECORDS "")
