@@ -83,6 +83,7 @@ def mtre(pose, truth, centre, points):
 
 METHOD_NAMES = {
     "new": "PointBasedDRRMetricv4 + v4 optimizer (pbdrr register)",
+    "global": "the same with the global stage (4 starts on the first level)",
     "powell": "today's Powell method (pbdrr register at 159ec84)",
     "classic": "ITK classic: ray caster + NormalizedCorrelation + Powell",
 }
@@ -122,7 +123,8 @@ def summarize(out):
                          np.median([r["rss"] for r in rs]), np.median([r["drrs"] for r in rs]),
                          *np.median(shifts, axis=0)))
     # Ratios in one run, per case and range: the other methods' median time over the new method's.
-    lines += ["", "| case | range | powell / new (median registration time) | classic / new |", "|---|---|---|---|"]
+    lines += ["", "| case | range | global / new (median registration time) | powell / new | classic / new |",
+              "|---|---|---|---|---|"]
     for case in sorted({k[0] for k in groups}):
         for rng in (10, 20):
             new = groups.get((case, "new", rng))
@@ -131,7 +133,8 @@ def summarize(out):
             base = np.median([r["seconds"] for r in new])
             ratio = lambda m: ("%.1f" % (np.median([r["seconds"] for r in groups[(case, m, rng)]]) / base)
                                if (case, m, rng) in groups else "-")
-            lines.append("| %s | %d / %d | %s | %s |" % (case, rng, rng // 2, ratio("powell"), ratio("classic")))
+            lines.append("| %s | %d / %d | %s | %s | %s |" % (case, rng, rng // 2, ratio("global"), ratio("powell"),
+                                                             ratio("classic")))
     # The real localizer: in-plane agreement (the lateral view's plane: y, z, and rx about its beam) with the reference.
     loc = [r for r in records if r["case"].startswith("localizer")]
     if loc:
@@ -154,8 +157,8 @@ def plot(records, out):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    methods = [m for m in ("new", "powell", "classic") if any(r["method"] == m for r in records)]
-    colours = {"new": "tab:blue", "powell": "tab:orange", "classic": "tab:green"}
+    methods = [m for m in ("new", "global", "powell", "classic") if any(r["method"] == m for r in records)]
+    colours = {"new": "tab:blue", "global": "tab:purple", "powell": "tab:orange", "classic": "tab:green"}
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     edges = np.array([0, 4, 8, 12, 16, 24, 40])
     for m in methods:

@@ -64,7 +64,9 @@ namespace itk
  *   (GetOptimizerNames(): one list for pbdrr register's help and parsing);
  * - the schedule: one level per shrink factor (SetShrinkFactorsPerLevel(), coarse to fine), with per level the number
  *   of kept points (SetNumberOfSamplesPerLevel(), empty: the metric's own) and the smoothing of DRR and X-ray
- *   (SetSmoothingSigmasPerLevel(), mm at the detector, empty: none). Each level starts where the previous ended;
+ *   (SetSmoothingSigmasPerLevel(), mm at the detector, empty: none). Each level starts where the previous ended. The
+ *   defaults (LBFGSB; shrink 4 with 10^6 points smoothed by 5 mm, then shrink 2 with 4 x 10^6 points) were chosen by
+ *   benchmark/registration.sh (docs/registration.md);
  * - a global stage (SetNumberOfStarts(), default 1: none): on the first level, the optimizer is run from that many
  *   starts (the start pose, then poses spread over SetStartRadius() mm and degrees about it, deterministic) and the
  *   best end goes on.
@@ -128,7 +130,7 @@ public:
   itkOverrideGetNameOfClassMacro(PointBasedDRRRegistrationMethod);
 
   /** The name of the default optimizer (MakeOptimizer()), chosen by benchmark/registration.sh. */
-  static constexpr const char * DefaultOptimizerName = "rsgd";
+  static constexpr const char * DefaultOptimizerName = "lbfgsb";
 
   /** The names MakeOptimizer() takes, in the order of pbdrr register's help: "rsgd" (RegularStepGradientDescent),
    * "lbfgsb" (LBFGSB), "cg" (ConjugateGradientLineSearch), "powell" (Powell, derivative-free), "amoeba" (Nelder-Mead,
@@ -198,22 +200,25 @@ public:
   ///@}
 
   ///@{
-  /** The schedule: one detector binning factor (1 or more) per level, coarse to fine. Default {4, 2}. */
+  /** The schedule: one detector binning factor (1 or more) per level, coarse to fine. Default {4, 2} (chosen by
+   * benchmark/registration.sh: a level at full resolution cost more time than it bought accuracy). */
   void
   SetShrinkFactorsPerLevel(const ShrinkFactorsArrayType & factors);
   itkGetConstReferenceMacro(ShrinkFactorsPerLevel, ShrinkFactorsArrayType);
   ///@}
 
   ///@{
-  /** Kept points per level (one per shrink factor), or empty (the default): the metric's number on every level. */
+  /** Kept points per level (one per shrink factor), or empty: the metric's number on every level. Default {10^6,
+   * 4 x 10^6}: the finer level's noise moves the optimum (a magnified view is noisier: a single view's depth drifts
+   * towards less magnification), and 4 x 10^6 points keep that drift near 0.3 mm. */
   void
   SetNumberOfSamplesPerLevel(const SamplesArrayType & samples);
   itkGetConstReferenceMacro(NumberOfSamplesPerLevel, SamplesArrayType);
   ///@}
 
   ///@{
-  /** The smoothing of DRR and X-ray per level (one per shrink factor; sigma in mm at the detector, 0: none), or empty
-   * (the default): none. */
+  /** The smoothing of DRR and X-ray per level (one per shrink factor; sigma in mm at the detector, 0: none), or empty:
+   * none. Default {5, 0}: the coarse level smoothed (its noise, and its basin, wider), the fine level not. */
   void
   SetSmoothingSigmasPerLevel(const SmoothingSigmasArrayType & sigmas);
   itkGetConstReferenceMacro(SmoothingSigmasPerLevel, SmoothingSigmasArrayType);
@@ -358,8 +363,8 @@ private:
   bool                                    m_AutomaticParameterScales{ true };
   PoseType                                m_StartPose{ 0.0 };
   ShrinkFactorsArrayType                  m_ShrinkFactorsPerLevel{ 4, 2 };
-  SamplesArrayType                        m_NumberOfSamplesPerLevel;
-  SmoothingSigmasArrayType                m_SmoothingSigmasPerLevel;
+  SamplesArrayType                        m_NumberOfSamplesPerLevel{ 1000000, 4000000 };
+  SmoothingSigmasArrayType                m_SmoothingSigmasPerLevel{ 5.0, 0.0 };
   unsigned int                            m_NumberOfStarts{ 1 };
   double                                  m_StartRadius{ 10.0 };
   double                                  m_MaximumTimeInSeconds{ 0.0 };

@@ -615,12 +615,14 @@ PointBasedDRRRegistrationMethod<TInputImage>::VerifyPreconditions() const
   if (!m_NumberOfSamplesPerLevel.empty() && m_NumberOfSamplesPerLevel.size() != levels)
   {
     itkExceptionMacro("the schedule has " << levels << " levels but " << m_NumberOfSamplesPerLevel.size()
-                                          << " numbers of samples: give one per level, or none");
+                                          << " numbers of samples: give one per level, or none (a new schedule keeps "
+                                             "the per-level points and smoothing)");
   }
   if (!m_SmoothingSigmasPerLevel.empty() && m_SmoothingSigmasPerLevel.size() != levels)
   {
     itkExceptionMacro("the schedule has " << levels << " levels but " << m_SmoothingSigmasPerLevel.size()
-                                          << " smoothing sigmas: give one per level, or none");
+                                          << " smoothing sigmas: give one per level, or none (a new schedule keeps "
+                                             "the per-level points and smoothing)");
   }
   if (!(m_MaximumTimeInSeconds >= 0.0))
   {

@@ -107,6 +107,8 @@ MakeMethod(const VolumeType * volume, const MethodType::PoseType & truth)
   }
   method->GetModifiableMetric()->SetExactRaysPerPixelSide(2);
   method->SetShrinkFactorsPerLevel({ 2, 1 });
+  method->SetNumberOfSamplesPerLevel({});
+  method->SetSmoothingSigmasPerLevel({});
   return method;
 }
 

@@ -392,10 +392,14 @@ RegisterHelpText()
     return text;
   };
   using MethodType = itk::PointBasedDRRRegistrationMethod<VolumeType>;
+  const auto  defaults = MethodType::New();
   std::string schedule;
-  for (const unsigned shrink : MethodType::New()->GetShrinkFactorsPerLevel())
+  for (size_t level = 0; level < defaults->GetShrinkFactorsPerLevel().size(); ++level)
   {
-    schedule += (schedule.empty() ? "" : ",") + std::to_string(shrink);
+    std::ostringstream one;
+    one << defaults->GetShrinkFactorsPerLevel()[level] << ":" << defaults->GetNumberOfSamplesPerLevel()[level] << ":"
+        << defaults->GetSmoothingSigmasPerLevel()[level];
+    schedule += (schedule.empty() ? "" : ",") + one.str();
   }
   const auto metric = MethodType::MetricType::New();
   return R"(pbdrr register - the rigid pose of a CT that matches its DRRs to real X-rays
@@ -433,11 +437,12 @@ Options:
                           (Nelder-Mead) use no derivative (powell is the default with --exact)
   --levels S[:N[:SIGMA]],...  the schedule, coarse to fine: per level the detector binning S, the kept points N
                           and a Gaussian smoothing of DRR and X-ray, SIGMA mm at the detector (default )" +
-         schedule + R"(,
-                          every level with --samples points, no smoothing)
+         schedule + R"(;
+                          levels without N take --samples points, without SIGMA no smoothing)
   --shrink S[,S...]       the schedule's binnings alone (as --levels S,S)
-  --samples N             points per DRR, kept and re-projected at every pose (default )" +
-         std::to_string(metric->GetNumberOfSamples()) + R"()
+  --samples N             points per DRR, kept and re-projected at every pose: on every level (default: per level,
+                          as above; )" +
+         std::to_string(metric->GetNumberOfSamples()) + R"( on levels given without points))
   --starts K              the global stage: the first level run from K starts, the best goes on (default 1)
   --start-radius R        the spread of those starts about --start: up to R mm and R degrees per axis (default 10)
   --exact siddon          the exact Siddon projector instead of points (no noise, no derivative: powell)

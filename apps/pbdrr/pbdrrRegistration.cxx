@@ -182,12 +182,19 @@ RegisterToXRays(const TVolume * volume, const std::vector<XRay> & xrays, const R
   typename MethodType::PoseType start;
   std::copy(settings.StartPose.begin(), settings.StartPose.end(), start.Begin());
   method->SetStartPose(start);
+  // A schedule given replaces the default one, per-level points and smoothing included (none given: --samples on
+  // every level, no smoothing); --samples alone sets every default level's points.
   if (!settings.Shrink.empty())
   {
     method->SetShrinkFactorsPerLevel(settings.Shrink);
+    method->SetNumberOfSamplesPerLevel(settings.LevelSamples);
+    method->SetSmoothingSigmasPerLevel(settings.LevelSigmas);
   }
-  method->SetNumberOfSamplesPerLevel(settings.LevelSamples);
-  method->SetSmoothingSigmasPerLevel(settings.LevelSigmas);
+  else if (settings.Samples > 0)
+  {
+    method->SetNumberOfSamplesPerLevel(
+      typename MethodType::SamplesArrayType(method->GetShrinkFactorsPerLevel().size(), settings.Samples));
+  }
   method->SetNumberOfStarts(settings.Starts);
   method->SetStartRadius(settings.StartRadius);
   method->SetMaximumTimeInSeconds(settings.MaxSeconds);
