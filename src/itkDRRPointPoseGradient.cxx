@@ -32,7 +32,8 @@ namespace itk
 namespace
 {
 constexpr uint64_t batchSize = 512;
-constexpr unsigned lanes = 8; // independent partial sums: vectorizable, and the same bits on any instruction set
+constexpr unsigned lanes = 16; // independent partial sums: vectorizable, and the same bits on any instruction set
+constexpr unsigned terms = 13; // Phi, a alpha (3), a alpha q^T (9)
 
 /** The beam a backward pass differentiates: a cone, a localizer (a fan across, parallel along the rows) or parallel. */
 enum class Beam
@@ -77,14 +78,13 @@ struct Batch
   float G[batchSize], GC[batchSize], GR[batchSize]; // G^ and its derivatives along columns and rows
   float Alpha[3][batchSize];
   float Q[3][batchSize];
+  float Term[terms][batchSize];
 };
 
 /** What a chunk adds up, in lanes: Phi, sum a alpha (3), sum a alpha q^T (9). */
 struct LaneSums
 {
-  double   Value[lanes]{};
-  double   Alpha[3][lanes]{};
-  double   AlphaQ[3][3][lanes]{};
+  double   Total[terms][lanes]{};
   uint64_t OnDetector{ 0 };
 };
 
@@ -110,122 +110,149 @@ RunBatch(const Coefficients & k,
          Batch &              b,
          LaneSums &           sums)
 {
+  // Locals, so that the compiler knows the batch's stores do not change them (and keeps them in registers): the loops
+  // below then vectorize.
+  const float pu0 = k.PU0, gu0 = k.GU[0], gu1 = k.GU[1], gu2 = k.GU[2];
+  const float pv0 = k.PV0, gv0 = k.GV[0], gv1 = k.GV[1], gv2 = k.GV[2];
+  const float z0 = k.Z0, gz0 = k.GZ[0], gz1 = k.GZ[1], gz2 = k.GZ[2];
+  const float sid = k.SID, sidOverDU = k.SIDOverDU, sidOverDV = k.SIDOverDV, inverseDU = k.InverseDU,
+              inverseDV = k.InverseDV, columnShift = k.ColumnShift, rowShift = k.RowShift,
+              minimumDepth = k.MinimumDepth;
+  const float cx = k.Center[0], cy = k.Center[1], cz = k.Center[2];
+  // 1 or 0: the perspective weight and its derivative, or none (the paper's count), without a branch.
+  const float unbiased = k.Unbiased ? 1.0f : 0.0f;
   // 1. Project (as DRRPointProjection::ProjectBatch<float> does), branch-free.
   for (uint64_t s = 0; s < n; ++s)
   {
-    const float pu = k.PU0 + k.GU[0] * x[s] + k.GU[1] * y[s] + k.GU[2] * z[s];
-    const float pv = k.PV0 + k.GV[0] * x[s] + k.GV[1] * y[s] + k.GV[2] * z[s];
-    const float w = scale * (pointWeight ? pointWeight[s] : 1.0f);
-    b.Q[0][s] = x[s] - k.Center[0];
-    b.Q[1][s] = y[s] - k.Center[1];
-    b.Q[2][s] = z[s] - k.Center[2];
+    const float pu = pu0 + gu0 * x[s] + gu1 * y[s] + gu2 * z[s];
+    const float pv = pv0 + gv0 * x[s] + gv1 * y[s] + gv2 * z[s];
+    const float w = scale * pointWeight[s];
+    b.Q[0][s] = x[s] - cx;
+    b.Q[1][s] = y[s] - cy;
+    b.Q[2][s] = z[s] - cz;
     if (VBeam == Beam::Parallel)
     {
-      b.Column[s] = pu * k.InverseDU + k.ColumnShift;
-      b.Row[s] = pv * k.InverseDV + k.RowShift;
+      b.Column[s] = pu * inverseDU + columnShift;
+      b.Row[s] = pv * inverseDV + rowShift;
       b.Weight[s] = w;
       b.A[s] = w;
-      continue;
-    }
-    const float depth = k.Z0 + k.GZ[0] * x[s] + k.GZ[1] * y[s] + k.GZ[2] * z[s];
-    const bool  counts = (depth >= k.MinimumDepth) & (depth <= k.SID);
-    const float inverseZ = 1.0f / depth;
-    const float tu = pu * inverseZ, tv = pv * inverseZ;
-    float       g;
-    if (VBeam == Beam::Cone)
-    {
-      const float magnification = k.SID * inverseZ;
-      g = k.Unbiased ? magnification * magnification * std::sqrt(1.0f + tu * tu + tv * tv) : 1.0f;
-      b.Row[s] = tv * k.SIDOverDV + k.RowShift;
     }
     else
     {
-      g = k.Unbiased ? k.SID * inverseZ * std::sqrt(1.0f + tu * tu) : 1.0f;
-      b.Row[s] = pv * k.InverseDV + k.RowShift;
+      const float depth = z0 + gz0 * x[s] + gz1 * y[s] + gz2 * z[s];
+      const bool  counts = (depth >= minimumDepth) & (depth <= sid);
+      const float inverseZ = 1.0f / depth;
+      const float tu = pu * inverseZ, tv = pv * inverseZ;
+      const float magnification = sid * inverseZ;
+      // The perspective weight g, or 1: a cone's (SID / z)^2 sqrt(1 + tu^2 + tv^2), a localizer's (SID / z)
+      // sqrt(1 + tu^2).
+      const float g =
+        VBeam == Beam::Cone
+          ? unbiased * magnification * magnification * std::sqrt(1.0f + tu * tu + tv * tv) + 1.0f - unbiased
+          : unbiased * magnification * std::sqrt(1.0f + tu * tu) + 1.0f - unbiased;
+      b.Row[s] = VBeam == Beam::Cone ? tv * sidOverDV + rowShift : pv * inverseDV + rowShift;
+      b.Column[s] = counts ? tu * sidOverDU + columnShift : -4.0f;
+      b.TU[s] = tu;
+      b.TV[s] = tv;
+      b.Depth[s] = depth;
+      b.Weight[s] = counts ? w * g : 0.0f;
+      b.A[s] = counts ? w * g * inverseZ : 0.0f;
     }
-    b.Column[s] = counts ? tu * k.SIDOverDU + k.ColumnShift : -4.0f;
-    b.TU[s] = tu;
-    b.TV[s] = tv;
-    b.Depth[s] = depth;
-    b.Weight[s] = counts ? w * g : 0.0f;
-    b.A[s] = counts ? w * g * inverseZ : 0.0f;
   }
-  // 2. Read G bilinearly where the splat puts each point, with its derivatives (clamped as the splat clamps).
-  const float maxColumn = static_cast<float>(G.Columns + 1), maxRow = static_cast<float>(G.Rows + 1);
+  // 2. Read G bilinearly where the splat puts each point, with its derivatives (clamped as the splat clamps), and count
+  // the points with a corner on the detector.
+  const float   maxColumn = static_cast<float>(G.Columns + 1), maxRow = static_cast<float>(G.Rows + 1);
+  const float * values = G.Values.data();
+  const int32_t stride = G.Stride, columns = G.Columns, rows = G.Rows;
+  int32_t       onDetector = 0;
   for (uint64_t s = 0; s < n; ++s)
   {
     const float   cs = std::min(maxColumn, std::max(0.0f, b.Column[s] + 1.0f));
     const float   rs = std::min(maxRow, std::max(0.0f, b.Row[s] + 1.0f));
     const int32_t c0 = static_cast<int32_t>(cs), r0 = static_cast<int32_t>(rs);
     const float   fc = cs - static_cast<float>(c0), fr = rs - static_cast<float>(r0);
-    const float * row0 = G.Values.data() + static_cast<size_t>(r0) * static_cast<size_t>(G.Stride) + c0;
-    const float * row1 = row0 + G.Stride;
-    const float   g00 = row0[0], g10 = row0[1], g01 = row1[0], g11 = row1[1];
+    const int32_t at = r0 * stride + c0;
+    const float   g00 = values[at], g10 = values[at + 1], g01 = values[at + stride], g11 = values[at + stride + 1];
     b.G[s] = (1.0f - fr) * ((1.0f - fc) * g00 + fc * g10) + fr * ((1.0f - fc) * g01 + fc * g11);
     b.GC[s] = (1.0f - fr) * (g10 - g00) + fr * (g11 - g01);
     b.GR[s] = (1.0f - fc) * (g01 - g00) + fc * (g11 - g10);
   }
+  // Counted in a loop of its own (in the one above, it keeps the gathers from vectorizing).
+  const float lastColumn = static_cast<float>(columns), lastRow = static_cast<float>(rows);
+  for (uint64_t s = 0; s < n; ++s)
+  {
+    onDetector += static_cast<int32_t>((b.A[s] != 0.0f) & (b.Column[s] > -1.0f) & (b.Row[s] > -1.0f) &
+                                       (b.Column[s] < lastColumn) & (b.Row[s] < lastRow));
+  }
+  sums.OnDetector += static_cast<uint64_t>(onDetector);
   // 3. dPhi/dy = a (alpha_u u + alpha_v v + alpha_n n): the splat's move (grad G^ J_u) and, unbiased, the perspective
   // weight's change (G^ grad g), with d depth / dy = -n and d tu / dy = (u + tu n) / z.
   for (uint64_t s = 0; s < n; ++s)
   {
     if (VBeam == Beam::Parallel)
     {
-      b.Alpha[0][s] = b.GC[s] * k.InverseDU;
-      b.Alpha[1][s] = b.GR[s] * k.InverseDV;
+      b.Alpha[0][s] = b.GC[s] * inverseDU;
+      b.Alpha[1][s] = b.GR[s] * inverseDV;
       b.Alpha[2][s] = 0.0f;
-      continue;
-    }
-    const float tu = b.TU[s], tv = b.TV[s];
-    const float h = k.Unbiased ? b.G[s] : 0.0f; // the weight's derivative, none for the paper's count
-    const float gc = b.GC[s] * k.SIDOverDU;
-    if (VBeam == Beam::Cone)
-    {
-      const float s2 = 1.0f + tu * tu + tv * tv;
-      const float gr = b.GR[s] * k.SIDOverDV;
-      b.Alpha[0][s] = h * tu / s2 + gc;
-      b.Alpha[1][s] = h * tv / s2 + gr;
-      b.Alpha[2][s] = h * (2.0f + (tu * tu + tv * tv) / s2) + gc * tu + gr * tv;
     }
     else
     {
-      const float s2 = 1.0f + tu * tu;
-      b.Alpha[0][s] = h * tu / s2 + gc;
-      b.Alpha[1][s] = b.GR[s] * k.InverseDV * b.Depth[s];
-      b.Alpha[2][s] = h * (1.0f + tu * tu / s2) + gc * tu;
-    }
-  }
-  // 4. Add up in double, point s to lane s % lanes (a fixed order: the same bits on any instruction set).
-  uint64_t s = 0;
-  for (; s + lanes <= n; s += lanes)
-  {
-    for (unsigned l = 0; l < lanes; ++l)
-    {
-      const double a = b.A[s + l];
-      sums.Value[l] += static_cast<double>(b.Weight[s + l]) * static_cast<double>(b.G[s + l]);
-      for (unsigned r = 0; r < 3; ++r)
+      const float tu = b.TU[s], tv = b.TV[s];
+      const float h = unbiased * b.G[s]; // the weight's derivative, none for the paper's count
+      const float gc = b.GC[s] * sidOverDU;
+      if (VBeam == Beam::Cone)
       {
-        const double aa = a * static_cast<double>(b.Alpha[r][s + l]);
-        sums.Alpha[r][l] += aa;
-        for (unsigned c = 0; c < 3; ++c)
-        {
-          sums.AlphaQ[r][c][l] += aa * static_cast<double>(b.Q[c][s + l]);
-        }
+        const float s2 = 1.0f + tu * tu + tv * tv;
+        const float gr = b.GR[s] * sidOverDV;
+        b.Alpha[0][s] = h * tu / s2 + gc;
+        b.Alpha[1][s] = h * tv / s2 + gr;
+        b.Alpha[2][s] = h * (2.0f + (tu * tu + tv * tv) / s2) + gc * tu + gr * tv;
+      }
+      else
+      {
+        const float s2 = 1.0f + tu * tu;
+        b.Alpha[0][s] = h * tu / s2 + gc;
+        b.Alpha[1][s] = b.GR[s] * inverseDV * b.Depth[s];
+        b.Alpha[2][s] = h * (1.0f + tu * tu / s2) + gc * tu;
       }
     }
   }
-  for (unsigned l = 0; s < n; ++s, ++l)
+  // 4. Each point's thirteen terms (Phi, a alpha, a alpha q^T) in single precision, a loop that vectorizes.
+  for (uint64_t s = 0; s < n; ++s)
   {
-    const double a = b.A[s];
-    sums.Value[l] += static_cast<double>(b.Weight[s]) * static_cast<double>(b.G[s]);
+    const float a = b.A[s];
+    b.Term[0][s] = b.Weight[s] * b.G[s];
     for (unsigned r = 0; r < 3; ++r)
     {
-      const double aa = a * static_cast<double>(b.Alpha[r][s]);
-      sums.Alpha[r][l] += aa;
+      const float aa = a * b.Alpha[r][s];
+      b.Term[1 + r][s] = aa;
       for (unsigned c = 0; c < 3; ++c)
       {
-        sums.AlphaQ[r][c][l] += aa * static_cast<double>(b.Q[c][s]);
+        b.Term[4 + 3 * r + c][s] = aa * b.Q[c][s];
       }
+    }
+  }
+  // 5. Added up: point s to lane s % lanes in single precision over the batch (32 terms a lane, rounding below
+  // 1e-6 of the sum), the lanes' totals to double. A fixed order: the same bits on any instruction set.
+  for (unsigned t = 0; t < terms; ++t)
+  {
+    float          lane[lanes] = {};
+    const float *  term = b.Term[t];
+    const uint64_t whole = n - n % lanes;
+    for (uint64_t s = 0; s < whole; s += lanes)
+    {
+      for (unsigned l = 0; l < lanes; ++l)
+      {
+        lane[l] += term[s + l];
+      }
+    }
+    for (uint64_t s = whole; s < n; ++s)
+    {
+      lane[s - whole] += term[s];
+    }
+    for (unsigned l = 0; l < lanes; ++l)
+    {
+      sums.Total[t][l] += static_cast<double>(lane[l]);
     }
   }
 }
@@ -277,13 +304,15 @@ DRRPointPoseGradient::Compute(const DRRPointCloud &      cloud,
     k.MinimumDepth = std::nextafter(k.MinimumDepth, std::numeric_limits<float>::infinity());
   }
   k.Unbiased = weighting == WeightingEnum::Unbiased;
-  const Beam            beam = !P.m_Perspective ? Beam::Parallel : (P.m_MagnifiesRows ? Beam::Cone : Beam::Localizer);
-  const PaddedImage     G = Pad(pixelWeights, static_cast<int32_t>(P.m_Columns), static_cast<int32_t>(P.m_Rows));
-  const float           scale = static_cast<float>(roomMass / (static_cast<double>(numberOfPoints) * P.GetPixelArea()));
-  const float *         weights = cloud.GetWeights();
-  const uint64_t        chunkSize = DRRPointRenderer::SamplesPerChunk;
-  const uint64_t        numberOfChunks = (numberOfPoints + chunkSize - 1) / chunkSize;
-  std::vector<LaneSums> sums(numberOfChunks);
+  const Beam        beam = !P.m_Perspective ? Beam::Parallel : (P.m_MagnifiesRows ? Beam::Cone : Beam::Localizer);
+  const PaddedImage G = Pad(pixelWeights, static_cast<int32_t>(P.m_Columns), static_cast<int32_t>(P.m_Rows));
+  const float       scale = static_cast<float>(roomMass / (static_cast<double>(numberOfPoints) * P.GetPixelArea()));
+  const float *     weights = cloud.GetWeights();
+  // Absent weights read as a batch of ones: one loop for every cloud.
+  static const std::vector<float> ones(batchSize, 1.0f);
+  const uint64_t                  chunkSize = DRRPointRenderer::SamplesPerChunk;
+  const uint64_t                  numberOfChunks = (numberOfPoints + chunkSize - 1) / chunkSize;
+  std::vector<LaneSums>           sums(numberOfChunks);
 
   const auto chunk = [&](unsigned int, uint64_t c) {
     LaneSums &             own = sums[c];
@@ -292,7 +321,7 @@ DRRPointPoseGradient::Compute(const DRRPointCloud &      cloud,
     for (uint64_t first = c * chunkSize; first < end; first += batchSize)
     {
       const uint64_t n = std::min(batchSize, end - first);
-      const float *  w = weights ? weights + first : nullptr;
+      const float *  w = weights ? weights + first : ones.data();
       const float *  X = cloud.GetX() + first;
       const float *  Y = cloud.GetY() + first;
       const float *  Z = cloud.GetZ() + first;
@@ -308,12 +337,6 @@ DRRPointPoseGradient::Compute(const DRRPointCloud &      cloud,
           RunBatch<Beam::Parallel>(k, G, X, Y, Z, w, scale, n, *batch, own);
           break;
       }
-      for (uint64_t s = 0; s < n; ++s)
-      {
-        own.OnDetector += batch->A[s] != 0.0f && batch->Column[s] > -1.0f && batch->Row[s] > -1.0f &&
-                          batch->Column[s] < static_cast<float>(P.m_Columns) &&
-                          batch->Row[s] < static_cast<float>(P.m_Rows);
-      }
     }
   };
   DRRWorkScheduler::Run(threader, numberOfChunks, chunk, nullptr);
@@ -326,13 +349,13 @@ DRRPointPoseGradient::Compute(const DRRPointCloud &      cloud,
     onDetector += own.OnDetector;
     for (unsigned l = 0; l < lanes; ++l)
     {
-      value += own.Value[l];
+      value += own.Total[0][l];
       for (unsigned r = 0; r < 3; ++r)
       {
-        alpha[r] += own.Alpha[r][l];
+        alpha[r] += own.Total[1 + r][l];
         for (unsigned c = 0; c < 3; ++c)
         {
-          alphaQ[r][c] += own.AlphaQ[r][c][l];
+          alphaQ[r][c] += own.Total[4 + 3 * r + c][l];
         }
       }
     }
