@@ -725,10 +725,12 @@ PointBasedDRRRegistrationMethod<TInputImage>::GenerateData()
       m_StartSimilarity = -metric->GetValue(); // outside the search and its time limit
     }
     watched->Watch(metric, units, deadline);
-    // The global stage on the first level: the best end of several starts goes on.
+    // The global stage on the first level: the best end of several starts goes on. If nothing was evaluated (the
+    // time limit), the level's start stands: an optimizer may have moved the transform on values it was not given.
     const unsigned int                  starts = level == 0 ? m_NumberOfStarts : 1;
     double                              best = std::numeric_limits<double>::infinity();
-    typename MetricType::ParametersType bestParameters = metric->GetParameters();
+    typename MetricType::ParametersType levelStart = metric->GetParameters();
+    typename MetricType::ParametersType bestParameters = levelStart;
     SizeValueType                       levelEvaluations = 0;
     for (unsigned int k = 0; k < starts && !watched->GetTimeIsUp(); ++k)
     {
@@ -749,10 +751,7 @@ PointBasedDRRRegistrationMethod<TInputImage>::GenerateData()
     }
     account();
     levelEvaluations += watched->GetEvaluations();
-    if (std::isfinite(best))
-    {
-      metric->SetParameters(bestParameters);
-    }
+    metric->SetParameters(std::isfinite(best) ? bestParameters : levelStart);
     m_CurrentLevel = level;
     m_CurrentShrinkFactor = shrink;
     m_CurrentLevelSimilarity = -best;
