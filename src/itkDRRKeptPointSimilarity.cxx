@@ -342,49 +342,11 @@ DRRKeptPointSimilarity::Prepare(const DRRAttenuationVolume & model,
   DRRPointProjection::MatrixType matrix;
   DRRPointProjection::VectorType offset;
   GetLinearPart(pose, matrix, offset);
-
-  // The points: drawn again only when what they are drawn from changed (none for the exact projector).
-  const bool newModel = &model != m_Model || modelTime != m_CloudModelTime || &sampler != m_CloudSampler ||
-                        sampler.GetMTime() != m_CloudSamplerTime;
-  if (newModel)
-  {
-    m_Cloud = nullptr;
-    m_Model = nullptr;
-  }
-  if (settings.ExactRaysPerPixelSide > 0)
-  {
-    const DRRExactRayIntegrator check(model, settings.Kernel); // throws for a kernel without an exact projector
-    if (!(model.ComputeTotalMass() > 0.0))
-    {
-      itkGenericExceptionMacro("the volume is all air (attenuation mass 0): there is nothing to register");
-    }
-  }
-  else
-  {
-    if (!m_Model)
-    {
-      sampler.Initialize(model);
-      m_CloudSamplerTime = sampler.GetMTime();
-    }
-    if (!(sampler.GetTotalMass() > 0.0))
-    {
-      itkGenericExceptionMacro("the volume is all air (attenuation mass 0): there is nothing to register");
-    }
-    if (!m_Cloud || settings.NumberOfSamples != m_Settings.NumberOfSamples || settings.Seed != m_Settings.Seed ||
-        settings.Kernel != m_Settings.Kernel)
-    {
-      m_Cloud = nullptr; // free the old points before drawing new ones
-      m_Cloud = DRRPointRenderer::Draw(model, sampler, RenderSettings(settings), threader, nullptr);
-      ++m_NumberOfDraws;
-    }
-    m_Model = &model; // the sampler is ready for it
-  }
-  m_PreparedModel = &model;
-  m_CloudModelTime = modelTime;
-  m_CloudSampler = &sampler;
-  m_Settings = settings;
-
   m_Views.clear();
+
+  // The X-rays first (cheap, and the commonest mistakes), into views that replace the old ones only when all is
+  // ready: a Prepare() that throws leaves nothing prepared.
+  std::vector<View> views;
   for (unsigned int x = 0; x < xrays.size(); ++x)
   {
     const XRay & xray = xrays[x];
@@ -442,8 +404,51 @@ DRRKeptPointSimilarity::Prepare(const DRRAttenuationVolume & model,
                                         << ") where it sees the volume: no similarity can be measured");
     }
     view.Workspace = DRRPointRenderer::MakeWorkspace();
-    m_Views.push_back(std::move(view));
+    views.push_back(std::move(view));
   }
+
+  // The points: drawn again only when what they are drawn from changed (none for the exact projector).
+  const bool newModel = &model != m_Model || modelTime != m_CloudModelTime || &sampler != m_CloudSampler ||
+                        sampler.GetMTime() != m_CloudSamplerTime;
+  if (newModel)
+  {
+    m_Cloud = nullptr;
+    m_Model = nullptr;
+  }
+  if (settings.ExactRaysPerPixelSide > 0)
+  {
+    const DRRExactRayIntegrator check(model, settings.Kernel); // throws for a kernel without an exact projector
+    if (!(model.ComputeTotalMass() > 0.0))
+    {
+      itkGenericExceptionMacro("the volume is all air (attenuation mass 0): there is nothing to register");
+    }
+  }
+  else
+  {
+    if (!m_Model)
+    {
+      sampler.Initialize(model);
+      m_CloudSamplerTime = sampler.GetMTime();
+    }
+    if (!(sampler.GetTotalMass() > 0.0))
+    {
+      itkGenericExceptionMacro("the volume is all air (attenuation mass 0): there is nothing to register");
+    }
+    if (!m_Cloud || settings.NumberOfSamples != m_Settings.NumberOfSamples || settings.Seed != m_Settings.Seed ||
+        settings.Kernel != m_Settings.Kernel)
+    {
+      m_Cloud = nullptr; // free the old points before drawing new ones
+      m_Cloud = DRRPointRenderer::Draw(model, sampler, RenderSettings(settings), threader, nullptr);
+      ++m_NumberOfDraws;
+    }
+    m_Model = &model; // the sampler is ready for it
+  }
+  m_PreparedModel = &model;
+  m_CloudModelTime = modelTime;
+  m_CloudSampler = &sampler;
+  m_Settings = settings;
+
+  m_Views = std::move(views);
 }
 
 double

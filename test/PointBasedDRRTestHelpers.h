@@ -54,6 +54,39 @@ MakeVolume(const typename TVolume::SizeType &      size,
   return volume;
 }
 
+/** 32 x 28 x 24 voxels of 3 mm about the room origin, HU: a soft-tissue ellipsoid in air with two bone blocks placed
+ * asymmetrically, so that every rotation and translation changes its projections (the registration tests' CT). */
+inline MuVolumeType::Pointer
+MakeAsymmetricPhantom()
+{
+  auto volume = MuVolumeType::New();
+  volume->SetRegions(MuVolumeType::SizeType{ { 32, 28, 24 } });
+  MuVolumeType::SpacingType spacing;
+  spacing.Fill(3.0);
+  volume->SetSpacing(spacing);
+  const double origin[3] = { -46.5, -40.5, -34.5 };
+  volume->SetOrigin(origin);
+  volume->Allocate();
+  for (unsigned int k = 0; k < 24; ++k)
+  {
+    for (unsigned int j = 0; j < 28; ++j)
+    {
+      for (unsigned int i = 0; i < 32; ++i)
+      {
+        const double x = -46.5 + 3.0 * i, y = -40.5 + 3.0 * j, z = -34.5 + 3.0 * k;
+        float        hu = (x * x / 1600.0 + y * y / 1156.0 + z * z / 900.0) < 1.0 ? 40.0f : -1000.0f;
+        if ((x > -25 && x < -8 && y > -18 && y < 4 && z > -10 && z < 18) ||
+            (x > 6 && x < 24 && y > 8 && y < 20 && z > -22 && z < -6))
+        {
+          hu = 1200.0f;
+        }
+        volume->SetPixel({ { i, j, k } }, hu);
+      }
+    }
+  }
+  return volume;
+}
+
 /** Sets voxels low[a] <= index[a] <= high[a] to value. */
 template <typename TVolume>
 void

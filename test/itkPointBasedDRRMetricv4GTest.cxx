@@ -26,13 +26,13 @@
 #include "itkDRRSamplerFactory.h"
 #include "itkEuler3DTransform.h"
 #include "itkExactDRRImageFilter.h"
-#include "itkImageRegionIteratorWithIndex.h"
 #include "itkLBFGSBOptimizerv4.h"
 #include "itkPointBasedDRRParameterScalesEstimator.h"
 #include "itkQuasiNewtonOptimizerv4.h"
 #include "itkRegularStepGradientDescentOptimizerv4.h"
 #include "itkTranslationTransform.h"
 #include "itkVersorRigid3DTransform.h"
+#include "PointBasedDRRTestHelpers.h"
 #include "gtest/gtest.h"
 
 #include <cmath>
@@ -53,37 +53,11 @@ using VersorType = itk::VersorRigid3DTransform<double>;
 using ProjectionEnum = itk::PointBasedDRREnums::Projection;
 using SimilarityEnum = itk::PointBasedDRREnums::Similarity;
 
-/** 32 x 28 x 24 voxels of 3 mm, HU: a soft-tissue ellipsoid in air with two bone blocks placed asymmetrically, so that
- * every rotation and translation changes the projections. */
+/** The registration tests' CT (PointBasedDRRTestHelpers.h). */
 VolumeType::Pointer
 MakePhantom()
 {
-  auto volume = VolumeType::New();
-  volume->SetRegions(VolumeType::SizeType{ { 32, 28, 24 } });
-  VolumeType::SpacingType spacing;
-  spacing.Fill(3.0);
-  volume->SetSpacing(spacing);
-  const double origin[3] = { -46.5, -40.5, -34.5 };
-  volume->SetOrigin(origin);
-  volume->Allocate();
-  for (itk::ImageRegionIteratorWithIndex<VolumeType> it(volume, volume->GetLargestPossibleRegion()); !it.IsAtEnd();
-       ++it)
-  {
-    VolumeType::PointType p;
-    volume->TransformIndexToPhysicalPoint(it.GetIndex(), p);
-    const double x = p[0], y = p[1], z = p[2];
-    float        hu = (x * x / 1600.0 + y * y / 1156.0 + z * z / 900.0) < 1.0 ? 40.0f : -1000.0f;
-    if (x > -25 && x < -8 && y > -18 && y < 4 && z > -10 && z < 18)
-    {
-      hu = 1200.0f;
-    }
-    if (x > 6 && x < 24 && y > 8 && y < 20 && z > -22 && z < -6)
-    {
-      hu = 1200.0f;
-    }
-    it.Set(hu);
-  }
-  return volume;
+  return PointBasedDRRTest::MakeAsymmetricPhantom();
 }
 
 /** A view about the room origin (the phantom's centre), 48 x 40 pixels of 3 mm at the isocenter. A close source (SAD
