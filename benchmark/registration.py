@@ -2,6 +2,7 @@
 
   registration.py starts N SEED            N starts within 10 mm / 5 degrees, then N within 20 mm / 10 degrees
   registration.py summarize OUT_DIR        OUT_DIR/registration.csv -> OUT_DIR/registration.md and the figures
+  registration.py reference SCORED.txt     the reference pose of the exact runs (pose and similarity a line)
 
 A start is a translation of uniform direction and a length uniform up to the range's millimetres, and a rotation about
 a uniform axis by an angle uniform up to its degrees, written as pbdrr register's pose (tx ty tz mm, rx ry rz degrees
@@ -10,7 +11,8 @@ of itk::Euler3DTransform: R = Rz Rx Ry, about the CT's centre).
 The target registration error of a pose is the mean distance between where it and the true pose put the case's bone
 points (voxels of 300 HU or more, drawn by PointBasedDRRRegistrationClassic --bone-points): success is an mTRE of 2 mm
 or less. The true pose of a synthetic case is the identity (its X-rays were rendered there); a real localizer has no
-truth, and its reference is the exact projector's registration from the scanner's frame (reference.txt).
+truth, and its reference is the exact projector's registration: the mean pose of those of five runs whose exact
+similarity is within 0.005 of the best (reference_scored.txt; `reference`).
 """
 import csv
 import math
@@ -195,8 +197,19 @@ def plot(records, out):
     fig.savefig(os.path.join(out, "registration.png"), dpi=110)
 
 
+def reference(path):
+    rows = np.loadtxt(path)
+    best = rows[:, 6].max()
+    kept = rows[rows[:, 6] >= best - 0.005]
+    print(" ".join("%.4f" % v for v in kept[:, :6].mean(axis=0)))
+    sys.stderr.write("reference: %d of %d exact runs, spread (max - min) %s\n"
+                     % (len(kept), len(rows), " ".join("%.3f" % v for v in np.ptp(kept[:, :6], axis=0))))
+
+
 if __name__ == "__main__":
-    if sys.argv[1] == "starts":
+    if sys.argv[1] == "reference":
+        reference(sys.argv[2])
+    elif sys.argv[1] == "starts":
         starts(int(sys.argv[2]), int(sys.argv[3]))
     elif sys.argv[1] == "summarize":
         summarize(sys.argv[2])
