@@ -14,6 +14,7 @@ itk_module(PointBasedDRR
     ITKImageFunction
   PRIVATE_DEPENDS
     ITKIOXML
+    ITKZLIB
   TEST_DEPENDS
     ITKTestKernel
     ITKGoogleTest

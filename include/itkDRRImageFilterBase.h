@@ -23,6 +23,7 @@
 #include "itkTransform.h"
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRImageToAttenuationVolumeFilter.h"
+#include "itkDRRImageFileIntegrity.h"
 #include "itkDRRMemoryBudget.h"
 #include "itkDRRLabelSelection.h"
 #include "itkVectorImage.h"
@@ -388,6 +389,11 @@ private:
   /** The shared attenuation model, or null. */
   const DRRAttenuationVolume *
   GetSharedAttenuationVolume() const;
+  /** Refuses, before anything is read, an input file that the reader upstream (an ImageFileReader, or any source with
+   * a "FileName" input) would read cut or damaged (DRRImageFileIntegrity): NIfTI's and TIFF's readers fill what is
+   * missing with zeros, and MetaImage's, asked for a slab, says so on std::cerr only. Once per file and reader time. */
+  void
+  CheckInputFile();
 
   typename GeometryType::Pointer                m_Geometry;
   typename TransformType::ConstPointer          m_Transform;
@@ -397,7 +403,9 @@ private:
   unsigned int                                  m_NumberOfStreamDivisions{ 1 };
   uint64_t                                      m_MemoryBudget{ DRRMemoryBudget::GetDefaultBudgetInBytes() };
   unsigned int                                  m_CurrentSlab{ 0 };
-  typename AttenuationVolumeFilterType::Pointer m_AttenuationVolumeFilter; // the filter's own preprocessing stage
+  std::string                                   m_CheckedInputFile;          // the last file CheckInputFile() passed
+  ModifiedTimeType                              m_CheckedInputFileTime{ 0 }; // its reader's time then
+  typename AttenuationVolumeFilterType::Pointer m_AttenuationVolumeFilter;   // the filter's own preprocessing stage
 };
 } // namespace itk
 

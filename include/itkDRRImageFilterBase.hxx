@@ -198,6 +198,7 @@ void
 DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
 {
   Superclass::GenerateInputRequestedRegion();
+  this->CheckInputFile();
   auto * input = const_cast<InputImageType *>(this->GetInput());
   if (input && this->GetNumberOfSlabs() > 1)
   {
@@ -341,6 +342,25 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetSlabRegion(unsigned int slab) 
   region.SetIndex(2, region.GetIndex()[2] + static_cast<IndexValueType>(first));
   region.SetSize(2, static_cast<SizeValueType>(end - first));
   return region;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::CheckInputFile()
+{
+  const InputImageType * input = this->GetInput();
+  const std::string      file = input ? DRRImageFileIntegrity::GetSourceFileName(input) : std::string();
+  if (file.empty())
+  {
+    return;
+  }
+  const ModifiedTimeType readerTime = input->GetSource()->GetMTime();
+  if (file != m_CheckedInputFile || readerTime != m_CheckedInputFileTime)
+  {
+    DRRImageFileIntegrity::Check(file);
+    m_CheckedInputFile = file;
+    m_CheckedInputFileTime = readerTime;
+  }
 }
 
 template <typename TInputImage, typename TOutputImage>

@@ -49,7 +49,7 @@ mkdir -p "$build"
 # The modules of the top CMakeLists.txt's find_package(ITK ... COMPONENTS) and of itk-module.cmake.
 modules=(ITKCommon ITKTransform ITKImageFunction ITKImageGrid ITKImageIntensity ITKOptimizers ITKOptimizersv4 ITKRegistrationCommon
   ITKIOImageBase ITKIOGDCM ITKGDCM ITKIOMeta ITKIONRRD ITKIONIFTI ITKIOPNG ITKIOTIFF ITKIOTransformBase ITKIOTransformInsightLegacy
-  ITKTestKernel ITKGoogleTest ITKIOXML)
+  ITKTestKernel ITKGoogleTest ITKIOXML ITKZLIB)
 
 major=$(sed -n 's/^ *set(ITK_VERSION_MAJOR "\{0,1\}\([0-9]*\).*/\1/p' "$src/CMake/itkVersion.cmake" 2>/dev/null | head -1)
 legacy=()

@@ -35,6 +35,8 @@
 #include "itkEuler3DTransform.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkOutputWindow.h"
+#include "itkImageFileReader.h"
+#include "itkImageFileWriter.h"
 #include "vnl/vnl_det.h"
 #include "PointBasedDRRTestHelpers.h"
 
@@ -44,6 +46,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <unistd.h>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -1813,3 +1818,61 @@ TEST(PointBasedDRRPreprocessing, BadVoxelsInSeveralBlocksNameTheFirstInMemoryOrd
   }
 }
 } // namespace
+
+// A cut file read by an itk::ImageFileReader into the filters: refused by the filters' own check before anything is
+// read, whole or slab by slab (NumberOfStreamDivisions), for the formats whose readers do not say so themselves (NIfTI
+// fills the missing voxels with zeros; MetaImage, streamed, says so on std::cerr only). The reader's file, once whole
+// again, renders.
+TEST(PointBasedDRRRobustness, ACutFileUpstreamIsRefusedWholeAndStreamed)
+{
+  auto volume = MakeCentredVolume<HUVolumeType>({ { 12, 10, 16 } }, Vec3(1.0, 1.0, 1.0), Identity<HUVolumeType>());
+  FillPattern(volume);
+  const std::string directory = ::testing::TempDir();
+  for (const std::string name : { "upstream_cut.nii", "upstream_cut.mha" })
+  {
+    const std::string path = directory + "/" + std::to_string(::getpid()) + name;
+    itk::WriteImage(volume, path);
+    std::string bytes;
+    {
+      std::ifstream in(path, std::ios::binary);
+      bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    for (const unsigned divisions : { 1u, 4u })
+    {
+      for (const bool exact : { false, true })
+      {
+        const std::string context =
+          name + (exact ? ", exact" : ", points") + ", " + std::to_string(divisions) + " slabs";
+        {
+          std::ofstream out(path, std::ios::binary | std::ios::trunc);
+          out.write(bytes.data(), static_cast<std::streamsize>(bytes.size() * 2 / 3));
+        }
+        auto reader = itk::ImageFileReader<HUVolumeType>::New();
+        reader->SetFileName(path);
+        FilterBase<HUVolumeType>::Pointer filter;
+        if (exact)
+        {
+          auto drr = ExactFilter<HUVolumeType>::New();
+          drr->SetNumberOfStreamDivisions(divisions);
+          filter = drr;
+        }
+        else
+        {
+          auto drr = PointBasedFilter<HUVolumeType>::New();
+          drr->SetNumberOfSamples(20000);
+          drr->SetNumberOfStreamDivisions(divisions);
+          filter = drr;
+        }
+        filter->SetInput(reader->GetOutput());
+        filter->SetGeometry(MakeGeometry(100.0, 150.0, 0.0, 8, 8, 2.0, 2.0));
+        ExpectUpdateThrows(filter.GetPointer(), { "cannot read", name, "truncated" }, context);
+        {
+          std::ofstream out(path, std::ios::binary | std::ios::trunc);
+          out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+        }
+        reader->Modified();
+        EXPECT_NO_THROW(filter->Update()) << context << ", the file whole again";
+      }
+    }
+  }
+}

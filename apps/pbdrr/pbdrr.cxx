@@ -22,12 +22,16 @@
 #include "pbdrrVolumeLoader.h"
 #include "itkMacro.h"
 
+#include <csignal>
 #include <iostream>
 
 int
 main(int argc, char * argv[])
 {
   pbdrr::InstallMessageWindow();
+  // A write past a file size limit (ulimit -f) fails with EFBIG, as on a full disk, and is reported, instead of
+  // killing the process by SIGXFSZ between a file and its rename.
+  std::signal(SIGXFSZ, SIG_IGN);
   try
   {
     if (argc > 1 && std::string(argv[1]) == "register")

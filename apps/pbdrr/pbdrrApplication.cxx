@@ -25,6 +25,7 @@
 #include "pbdrrRegistration.h"
 #include "pbdrrView.h"
 #include "pbdrrVolumeLoader.h"
+#include "pbdrrVolumeFileReader.h"
 
 #include "itkCommand.h"
 #include "itkDRRMemoryBudget.h"
@@ -352,6 +353,7 @@ OpenStreamedVolume(const std::string & input)
     throw UsageError("--stream reads a MetaImage, NRRD or NIfTI file slab by slab, not a DICOM series (" + input +
                      " is a directory)");
   }
+  RefuseDamagedImageFile(input); // before the first slab: a streamed reader reads a cut file silently
   auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
   if (!io)
   {

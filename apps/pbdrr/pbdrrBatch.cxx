@@ -456,7 +456,7 @@ PlanBatch(const Options & options, uint64_t shardOffset)
   if (options.resume)
   {
     const auto done = [&](uint64_t k) {
-      return FileExists(plan.Outputs[k]) && FileExists(GeometryPathBeside(plan.Outputs[k]));
+      return FileExists(GeometryPathBeside(plan.Outputs[k])) && IsWholeImageFile(plan.Outputs[k]);
     };
     const auto end = std::remove_if(plan.Selected.begin(), plan.Selected.end(), done);
     plan.Skipped = static_cast<uint64_t>(plan.Selected.end() - end);
@@ -660,8 +660,10 @@ RenderViews(const Options &   options,
     {
       Options viewOptions = options;
       viewOptions.output = plan.Outputs[k];
-      WriteGeometryBeside(plan.Outputs[k], geometry); // before the image: --resume counts a view done by its image
+      // The image, then its view: a view file is there only beside its whole image (both written whole or not at
+      // all, WriteAtomically), and --resume counts a view done only with both.
       WriteOutputs(viewOptions, image, nullptr, notes);
+      WriteGeometryBeside(plan.Outputs[k], geometry);
     }
     progress.ViewDone();
     firstViewSeconds = s == 0 ? Now() - renderStart : firstViewSeconds;

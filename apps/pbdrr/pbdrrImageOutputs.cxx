@@ -27,6 +27,7 @@
 #include "itkIntensityWindowingImageFilter.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -100,6 +101,15 @@ WriteImageAtomically(const TImage * image, const std::string & path)
   if (HasDetachedHeader(path))
   {
     itk::WriteImage(image, path);
+    try
+    {
+      CheckWrittenImage(path, path);
+    }
+    catch (...)
+    {
+      std::remove(path.c_str()); // the header: no reader takes the cut data file for an image
+      throw;
+    }
     return;
   }
   WriteAtomically(path, [image](const std::string & temporary) { itk::WriteImage(image, temporary); });
@@ -195,7 +205,8 @@ WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry
   WriteAtomically(path, [&](const std::string & temporary) {
     std::ofstream file(temporary);
     file << text.str();
-    if (!file.flush())
+    file.close();
+    if (!file)
     {
       throw std::runtime_error("cannot write the view beside the image: " + path);
     }

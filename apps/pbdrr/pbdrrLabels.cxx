@@ -18,6 +18,7 @@
 #include "pbdrrLabels.h"
 #include "pbdrrOutputFiles.h"
 
+#include "itkDRRImageFileIntegrity.h"
 #include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
 #include "itkImageIOFactory.h"
@@ -68,6 +69,11 @@ ReadLabelImage(const std::string & path)
   if (!io)
   {
     throw UsageError("--labels: cannot read " + path + " (missing, or not an image ITK reads)");
+  }
+  const std::string damage = itk::DRRImageFileIntegrity::FindDamage(path);
+  if (!damage.empty())
+  {
+    throw std::runtime_error("--labels: cannot read " + path + ": " + damage);
   }
   io->SetFileName(path);
   io->ReadImageInformation();

@@ -19,12 +19,17 @@
 #include "pbdrrMessages.h"
 #include "pbdrrOptions.h"
 
+#include "itkDRRImageFileIntegrity.h"
+#include "itkImageIOFactory.h"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <stdexcept>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <vector>
 
 namespace pbdrr
 {
@@ -123,12 +128,56 @@ TemporaryPathBeside(const std::string & path)
 }
 
 void
+CheckWrittenImage(const std::string & written, const std::string & path)
+{
+  std::string damage = itk::DRRImageFileIntegrity::FindDamage(written);
+  if (!damage.empty())
+  {
+    const std::string truncated = ": the file is truncated";
+    if (damage.size() > truncated.size() &&
+        damage.compare(damage.size() - truncated.size(), truncated.size(), truncated) == 0)
+    {
+      damage.resize(damage.size() - truncated.size());
+    }
+    throw std::runtime_error("cannot write " + path + ": it was written short, " + damage +
+                             " (is the disk full, or a file size limit reached?)");
+  }
+}
+
+namespace
+{
+/** fsync of the file at path; throws naming `named` if it fails. */
+void
+SyncToDisk(const std::string & path, const std::string & named)
+{
+  const int descriptor = open(path.c_str(), O_RDONLY);
+  if (descriptor < 0 || fsync(descriptor) != 0)
+  {
+    const std::string reason = std::strerror(errno);
+    if (descriptor >= 0)
+    {
+      close(descriptor);
+    }
+    throw std::runtime_error("cannot write " + named + ": " + reason);
+  }
+  if (close(descriptor) != 0)
+  {
+    throw std::runtime_error("cannot write " + named + ": " + std::strerror(errno));
+  }
+}
+} // namespace
+
+void
 WriteAtomically(const std::string & path, const std::function<void(const std::string & temporaryPath)> & write)
 {
   const std::string temporary = TemporaryPathBeside(path);
   try
   {
     write(temporary);
+    // Writers do not all see a short write (ITK's MetaImage writer does not check its stream): the file must hold
+    // what its header promises, and be on the disk, before it takes the name.
+    CheckWrittenImage(temporary, path);
+    SyncToDisk(temporary, path);
   }
   catch (...)
   {
@@ -141,6 +190,47 @@ WriteAtomically(const std::string & path, const std::function<void(const std::st
     std::remove(temporary.c_str());
     throw std::runtime_error("cannot write " + path + ": " + reason);
   }
+  // The rename itself on the disk: a crash after it does not bring the old name back.
+  const int folder = open(DirectoryOf(path).c_str(), O_RDONLY | O_DIRECTORY);
+  if (folder >= 0)
+  {
+    fsync(folder); // best effort: some file systems refuse a folder's fsync, and the data are already on the disk
+    close(folder);
+  }
+}
+
+bool
+IsWholeImageFile(const std::string & path)
+{
+  if (!FileExists(path) || !itk::DRRImageFileIntegrity::FindDamage(path).empty())
+  {
+    return false;
+  }
+  // Its header readable and every pixel read (PNG's reader, unchecked above, throws on a cut stream).
+  try
+  {
+    const itk::ImageIOBase::Pointer io =
+      itk::ImageIOFactory::CreateImageIO(path.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
+    if (!io)
+    {
+      return false;
+    }
+    io->SetFileName(path);
+    io->ReadImageInformation();
+    std::vector<char>  pixels(static_cast<size_t>(io->GetImageSizeInBytes()));
+    itk::ImageIORegion region(io->GetNumberOfDimensions());
+    for (unsigned d = 0; d < io->GetNumberOfDimensions(); ++d)
+    {
+      region.SetSize(d, io->GetDimensions(d));
+    }
+    io->SetIORegion(region);
+    io->Read(pixels.data());
+  }
+  catch (const itk::ExceptionObject &)
+  {
+    return false;
+  }
+  return true;
 }
 
 bool

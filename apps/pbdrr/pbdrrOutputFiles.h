@@ -68,10 +68,22 @@ std::string
 TemporaryPathBeside(const std::string & path);
 
 /** Writes the file at path through write(temporary) and renames it to path, so that path is either absent or whole:
- * a run killed midway leaves no half-written file under the name (only, at worst, a hidden .partial one). If write
- * throws, the temporary file is removed and the exception passed on. */
+ * a run killed midway leaves no half-written file under the name (only, at worst, a hidden .partial one). Before the
+ * rename, an image must hold what its header promises (CheckWrittenImage()) and the file is flushed to the disk
+ * (fsync); after it, the folder. If any of these fails, or write throws, the temporary file is removed and the
+ * exception passed on (a short write says so: a full disk, a file size limit). */
 void
 WriteAtomically(const std::string & path, const std::function<void(const std::string & temporaryPath)> & write);
+
+/** Throws std::runtime_error naming path if the image file `written` (path itself, or its temporary name) holds less
+ * than its header promises (itk::DRRImageFileIntegrity; nothing is checked for formats it does not know). */
+void
+CheckWrittenImage(const std::string & written, const std::string & path);
+
+/** True if the image file at path is whole: what its header promises is there (itk::DRRImageFileIntegrity), and ITK
+ * reads its header and every pixel. What --resume asks of a view it skips. */
+bool
+IsWholeImageFile(const std::string & path);
 
 /** True for formats whose pixels are in a second file (.mhd, .nhdr): they cannot be renamed as one. */
 bool

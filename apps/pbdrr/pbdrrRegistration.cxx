@@ -18,6 +18,7 @@
 #include "pbdrrRegistration.h"
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrView.h"
+#include "pbdrrVolumeFileReader.h"
 
 #include "itkDRRImageSimilarity.h"
 #include "itkDRRProjectionMatrixFileIO.h"
@@ -66,6 +67,7 @@ ReadXRay(const std::string &       image,
     throw std::runtime_error(image + ": give its view by --geometry or by --projection-matrix, not both");
   }
   XRay xray;
+  RefuseDamagedImageFile(image);
   xray.Image = itk::ReadImage<ProjectionType>(image);
   const auto size = xray.Image->GetLargestPossibleRegion().GetSize();
   if (!geometryFile.empty())

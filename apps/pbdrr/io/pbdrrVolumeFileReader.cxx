@@ -18,6 +18,7 @@
 #include "pbdrrVolumeFileReader.h"
 #include "pbdrrLoaderText.h"
 
+#include "itkDRRImageFileIntegrity.h"
 #include "itkImageFileReader.h"
 
 #include <iostream>
@@ -69,6 +70,16 @@ ReadVolumeFileAs(const std::string & path, const itk::ImageIOBase::Pointer & io)
   return image;
 }
 } // namespace
+
+void
+RefuseDamagedImageFile(const std::string & path)
+{
+  const std::string damage = itk::DRRImageFileIntegrity::FindDamage(path);
+  if (!damage.empty())
+  {
+    Fail("cannot read " + path + ": " + damage);
+  }
+}
 
 VolumeType::Pointer
 ReadVolumeFile(const std::string & path, const itk::ImageIOBase::Pointer & io)

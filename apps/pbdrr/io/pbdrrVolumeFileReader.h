@@ -26,6 +26,13 @@
 
 namespace pbdrr
 {
+/** Refuses, with std::runtime_error naming the file and what is missing, an image file that holds less than its
+ * header promises or whose compressed stream is cut or damaged (itk::DRRImageFileIntegrity: MetaImage, NRRD, NIfTI,
+ * TIFF), before any reader reads it: ITK's NIfTI and TIFF readers fill what is missing with zeros, and MetaImage's,
+ * streamed, reports it on std::cerr only. */
+void
+RefuseDamagedImageFile(const std::string & path);
+
 /** Reads the image file `path` through `io` (its image information read) as a float volume. Refuses, with
  * std::runtime_error, an image that is not 3D or not scalar, and one the reader reports read short or damaged (some
  * readers, MetaImage's, only say so on std::cerr and carry on); the reader's other messages still reach std::cerr. */

@@ -110,6 +110,7 @@ LoadVolumeFile(const std::string & input)
   {
     Fail("cannot read " + input + ": the DICOM file is truncated or damaged (" + truncation + ")");
   }
+  RefuseDamagedImageFile(input);
   auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::IOFileModeEnum::ReadMode);
   if (!io)
   {
