@@ -669,17 +669,29 @@ FindTiffDamage(CheckedFile & file)
              std::to_string(directory) + ") is cut by the end of the file (" + Bytes(file.GetSize()) +
              "): the file is truncated";
     }
-    // The pixel data's places: strip or tile offsets (273, 324) and byte counts (279, 325).
+    // Every value stored apart from its entry inside the file; and the pixel data's places: strip or tile offsets
+    // (273, 324) and byte counts (279, 325).
     std::map<unsigned, std::vector<uint64_t>> arrays;
     for (uint64_t e = 0; e < entries; ++e)
     {
       const unsigned char * entry = table.data() + e * entryWidth;
       const unsigned        tag = static_cast<unsigned>(TiffInteger(entry, 2, big));
+      const unsigned        type = static_cast<unsigned>(TiffInteger(entry + 2, 2, big));
+      static const unsigned typeBytes[19] = { 0, 1, 1, 2, 4, 8, 1, 1, 2, 4, 8, 4, 8, 4, 0, 0, 8, 8, 8 };
+      const uint64_t        valueBytes =
+        Multiply(TiffInteger(entry + 4, countWidth == 8 ? 8 : 4, big), type < 19 ? typeBytes[type] : 0);
+      const uint64_t valueOffset = TiffInteger(entry + 4 + (bigTiff ? 8 : 4), offsetWidth, big);
+      if (valueBytes > offsetWidth &&
+          (valueBytes == Unknown || valueOffset > file.GetSize() || valueBytes > file.GetSize() - valueOffset))
+      {
+        return "its directory " + std::to_string(index) + "'s tag " + std::to_string(tag) + " (" + Bytes(valueBytes) +
+               " at byte " + std::to_string(valueOffset) + ") is past the end of the file (" + Bytes(file.GetSize()) +
+               "): the file is truncated";
+      }
       if (tag != 273 && tag != 279 && tag != 324 && tag != 325)
       {
         continue;
       }
-      const unsigned type = static_cast<unsigned>(TiffInteger(entry + 2, 2, big));
       const unsigned width = type == 3 ? 2 : type == 4 ? 4 : type == 16 ? 8 : 0;
       const uint64_t n = TiffInteger(entry + 4, countWidth == 8 ? 8 : 4, big);
       if (width == 0 || n > (1u << 24))

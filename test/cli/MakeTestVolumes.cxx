@@ -49,6 +49,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <functional>
 #include <iostream>
 #include <limits>
@@ -579,6 +580,88 @@ AxialStack(size_t count, double step, double firstZ = -10.0)
 }
 } // namespace
 
+/** The bytes of file. */
+std::string
+ReadFileBytes(const fs::path & file)
+{
+  std::ifstream in(file, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/** The fault matrix's inputs (issue 39), in folder: the phantom in every volume format pbdrr reads, FORMAT_CUT.EXT with
+ * the file that holds its pixels (the file itself, or the data file beside a .mhd or .nhdr header) cut to a third, to
+ * two thirds and by its last byte; promise.mha and promise.nii, headers that promise a slice more than their data;
+ * and a 32 x 32 X-ray (for geometry_32.txt), whole (xray_whole.mha) and in three formats cut to two thirds
+ * (xray_FORMAT.EXT). Each format has its
+ * own stem: NIfTI's reader, given a.nii.gz, opens a.nii if there is one. */
+void
+WriteFaultMatrix(const fs::path & folder)
+{
+  FreshDirectory(folder);
+  struct Format
+  {
+    const char * Tag;
+    const char * Extension;
+    bool         Compress;
+    const char * DataExtension; // the pixels' own file beside the header, or ""
+  };
+  const Format formats[] = { { "mha", "mha", false, "" },    { "zmha", "mha", true, "" },
+                             { "mhd", "mhd", false, "raw" }, { "nrrd", "nrrd", false, "" },
+                             { "gznrrd", "nrrd", true, "" }, { "nhdr", "nhdr", false, "raw" },
+                             { "nii", "nii", false, "" },    { "niigz", "nii.gz", true, "" },
+                             { "tif", "tif", false, "" } };
+  const auto   phantom = MakeShortVolume(
+    { { 16, 16, 12 } }, { { 1.0, 1.0, 1.5 } }, { { -7.5, -7.5, -8.25 } }, [](unsigned x, unsigned y, unsigned z) {
+      return static_cast<short>(PhantomValue(x - 7.5, y - 7.5) + 7 * z);
+    });
+  for (const Format & format : formats)
+  {
+    for (const char * cut : { "third", "two_thirds", "last_byte" })
+    {
+      const std::string stem = std::string(format.Tag) + "_" + cut;
+      const fs::path    file = folder / (stem + "." + format.Extension);
+      itk::WriteImage(phantom, file.string(), format.Compress);
+      const fs::path data = *format.DataExtension ? folder / (stem + "." + format.DataExtension) : file;
+      const auto     size = fs::file_size(data);
+      fs::resize_file(data,
+                      std::string(cut) == "third"        ? size / 3
+                      : std::string(cut) == "two_thirds" ? size * 2 / 3
+                                                         : size - 1);
+    }
+  }
+  // Headers that promise 13 slices over the data of 12.
+  const fs::path meta = folder / "promise.mha";
+  itk::WriteImage(phantom, meta.string());
+  std::string  bytes = ReadFileBytes(meta);
+  const size_t dims = bytes.find("DimSize = 16 16 12");
+  if (dims == std::string::npos)
+  {
+    throw std::runtime_error("promise.mha: no DimSize line");
+  }
+  bytes.replace(dims, 18, "DimSize = 16 16 13");
+  WriteText(meta, bytes);
+  const fs::path nifti = folder / "promise.nii";
+  itk::WriteImage(phantom, nifti.string());
+  bytes = ReadFileBytes(nifti);
+  bytes[46] = 13; // dim[3], a little-endian short at byte 46 of a NIfTI-1 header
+  WriteText(nifti, bytes);
+  // The X-rays.
+  auto xray = itk::Image<float, 2>::New();
+  xray->SetRegions(itk::Size<2>{ { 32, 32 } });
+  xray->Allocate();
+  for (size_t k = 0; k < 32 * 32; ++k)
+  {
+    xray->GetBufferPointer()[k] = static_cast<float>(k % 32) * 0.01f + static_cast<float>(k / 32) * 0.02f;
+  }
+  itk::WriteImage(xray, (folder / "xray_whole.mha").string()); // the X-ray of the CTs' register cases
+  for (const char * extension : { "mha", "nii", "tif" })
+  {
+    const fs::path file = folder / (std::string("xray_") + extension + "." + extension);
+    itk::WriteImage(xray, file.string());
+    fs::resize_file(file, fs::file_size(file) * 2 / 3);
+  }
+}
+
 int
 main(int argc, char * argv[])
 {
@@ -621,6 +704,7 @@ main(int argc, char * argv[])
     WritePhantom(root / "truncated.mha");
     fs::resize_file(root / "truncated.mha", fs::file_size(root / "truncated.mha") - 1000);
     FreshDirectory(root / "isdir.mha");
+    WriteFaultMatrix(root / "faults");
 
     // Geometry files.
     WriteText(root / "geometry_32.txt",
