@@ -455,6 +455,15 @@ PlanBatch(const Options & options, uint64_t shardOffset)
   CheckViews(options, plan);
   if (options.resume)
   {
+    std::set<std::string> folders;
+    for (const uint64_t k : plan.Selected)
+    {
+      folders.insert(DirectoryOf(plan.Outputs[k]));
+    }
+    for (const std::string & folder : folders)
+    {
+      RemoveStalePartialFiles(folder); // what killed runs left under temporary names
+    }
     const auto done = [&](uint64_t k) {
       return FileExists(GeometryPathBeside(plan.Outputs[k])) && IsWholeImageFile(plan.Outputs[k]);
     };

@@ -26,6 +26,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <filesystem>
+#include <signal.h>
 #include <stdexcept>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -196,6 +198,31 @@ WriteAtomically(const std::string & path, const std::function<void(const std::st
   {
     fsync(folder); // best effort: some file systems refuse a folder's fsync, and the data are already on the disk
     close(folder);
+  }
+}
+
+void
+RemoveStalePartialFiles(const std::string & folder)
+{
+  std::error_code error;
+  for (const auto & entry : std::filesystem::directory_iterator(folder, error))
+  {
+    const std::string name = entry.path().filename().string();
+    const size_t      mark = name.find(".partial-");
+    if (name.empty() || name[0] != '.' || mark == std::string::npos)
+    {
+      continue;
+    }
+    const std::string digits = name.substr(mark + 9, name.find('.', mark + 9) - mark - 9);
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
+    {
+      continue;
+    }
+    const pid_t writer = static_cast<pid_t>(std::stoll(digits));
+    if (writer != getpid() && kill(writer, 0) != 0 && errno == ESRCH)
+    {
+      std::filesystem::remove(entry.path(), error);
+    }
   }
 }
 

@@ -80,6 +80,11 @@ WriteAtomically(const std::string & path, const std::function<void(const std::st
 void
 CheckWrittenImage(const std::string & written, const std::string & path);
 
+/** Removes, in folder, the temporary files of WriteAtomically() (.NAME.partial-PID.EXT) whose process PID is gone: a
+ * run killed between a write and its rename leaves one. Those of a running process (another shard) stay. */
+void
+RemoveStalePartialFiles(const std::string & folder);
+
 /** True if the image file at path is whole: what its header promises is there (itk::DRRImageFileIntegrity), and ITK
  * reads its header and every pixel. What --resume asks of a view it skips. */
 bool
