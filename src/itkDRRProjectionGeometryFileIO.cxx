@@ -312,7 +312,9 @@ DRRProjectionGeometryFileIO::Write(const GeometryType * geometry)
   std::ostringstream text;
   WriteToStream(text, geometry);
   std::ofstream file(m_FileName, std::ios::out | std::ios::trunc);
-  if (!file || !(file << text.str()) || !file.flush())
+  file << text.str();
+  file.close(); // a short write or a failed close (a full disk) leaves the stream failed
+  if (!file)
   {
     ThrowWriteError("cannot write geometry file '" + m_FileName + "'");
   }

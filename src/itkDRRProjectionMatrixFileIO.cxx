@@ -126,7 +126,9 @@ DRRProjectionMatrixFileIO::Write(const MatrixType & matrix) const
   std::ostringstream text;
   WriteToStream(text, matrix);
   std::ofstream file(m_FileName, std::ios::out | std::ios::trunc);
-  if (!file || !(file << text.str()) || !file.flush())
+  file << text.str();
+  file.close(); // a short write or a failed close (a full disk) leaves the stream failed
+  if (!file)
   {
     ThrowMatrixError("cannot write projection matrix file '" + m_FileName + "'");
   }

@@ -709,9 +709,10 @@ DRRRTKGeometryFileIO::Write(const ConstGeometryListType & geometries) const
   const std::string temporary = m_FileName + ".tmp";
   {
     std::ofstream file(temporary, std::ios::out | std::ios::trunc | std::ios::binary);
-    if (!file || !(file << text.str()) || !file.flush())
+    file << text.str();
+    file.close(); // a short write or a failed close (a full disk) leaves the stream failed
+    if (!file)
     {
-      file.close();
       std::filesystem::remove(temporary, error);
       ThrowRTKError("cannot write RTK geometry file '" + m_FileName + "' (its temporary '" + temporary + "')");
     }

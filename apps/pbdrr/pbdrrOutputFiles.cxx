@@ -132,6 +132,18 @@ TemporaryPathBeside(const std::string & path)
 void
 CheckWrittenImage(const std::string & written, const std::string & path)
 {
+  if (!itk::DRRImageFileIntegrity::IsCheckedFormat(written))
+  {
+    // PNG and the others: an image ITK reads must read back whole (libpng's reader throws on a cut stream).
+    const bool image =
+      itk::ImageIOFactory::CreateImageIO(written.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode).IsNotNull();
+    if (image && !IsWholeImageFile(written))
+    {
+      throw std::runtime_error("cannot write " + path +
+                               ": it does not read back whole (is the disk full, or a file size limit reached?)");
+    }
+    return;
+  }
   std::string damage = itk::DRRImageFileIntegrity::FindDamage(written);
   if (!damage.empty())
   {
