@@ -840,6 +840,10 @@ main(int argc, char * argv[])
     // spacing at all.
     const auto framePosition = [](double z) { return Vector3{ { -6.75, -6.75, z } }; };
     WriteMultiFrame(FreshDirectory(root / "dicom_multiframe") / "MF0001.dcm", uid + "11");
+    // The fault matrix's multi-frame file, its pixel data cut to two thirds of the file.
+    const fs::path cutFrames = FreshDirectory(root / "faults" / "multiframe_cut") / "MF0001.dcm";
+    fs::copy_file(root / "dicom_multiframe" / "MF0001.dcm", cutFrames);
+    fs::resize_file(cutFrames, fs::file_size(cutFrames) * 2 / 3);
     const fs::path descending = FreshDirectory(root / "dicom_multiframe_descending") / "MF0001.dcm";
     WriteMultiFrame(descending, uid + "12", true);
     EditFrames(descending, [&](unsigned k) { return framePosition(7.5 - 2.5 * k); });
