@@ -109,6 +109,13 @@ struct WrittenFormat
   std::string Data;     // the pixels' own file, for a header apart ("" if none)
 };
 
+/** Test names and failures show the format's file name, not its bytes. */
+void
+PrintTo(const WrittenFormat & format, std::ostream * os)
+{
+  *os << format.Name;
+}
+
 class DRRImageFileIntegrityFormats : public ::testing::TestWithParam<WrittenFormat>
 {};
 
