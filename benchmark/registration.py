@@ -1,7 +1,9 @@
 """Issue 38's registration benchmark (benchmark/registration.sh): the random starts, and the summary.
 
   registration.py starts N SEED            N starts within 10 mm / 5 degrees, then N within 20 mm / 10 degrees
-  registration.py summarize OUT_DIR        OUT_DIR/registration.csv -> OUT_DIR/registration.md and the figures
+  registration.py summarize OUT_DIR        OUT_DIR/registration.csv -> OUT_DIR/registration.md (every case, method and
+                                           range), registration_overview.md (one line per case and method) and
+                                           registration.png
   registration.py reference SCORED.txt     the reference pose of the exact runs (pose and similarity a line)
 
 A start is a translation of uniform direction and a length uniform up to the range's millimetres, and a rotation about
@@ -140,18 +142,41 @@ def summarize(out):
     # The real localizer: in-plane agreement (the lateral view's plane: y, z, and rx about its beam) with the reference.
     loc = [r for r in records if r["case"].startswith("localizer")]
     if loc:
-        lines += ["", "| case | method | converged | in-plane |ty| |tz| (mm), |rx| (deg) vs the reference, median |",
-                  "|---|---|---|---|"]
+        lines += ["", "| case | method | converged | in-plane |ty| |tz| (mm), |rx| (deg) vs the reference, median |"
+                  " the same, 90th percentile |", "|---|---|---|---|---|"]
         for key in sorted({(r["case"], r["method"]) for r in loc}):
             rs = [r for r in loc if (r["case"], r["method"]) == key and r["tre"] <= 2.0]
             n = len([r for r in loc if (r["case"], r["method"]) == key])
             d = np.abs(np.array([r["pose"] - r["truth"] for r in rs])) if rs else np.zeros((1, 6))
-            lines.append("| %s | %s | %d / %d | %.2f %.2f, %.3f |" % (key[0], key[1], len(rs), n, np.median(d[:, 1]),
-                                                                      np.median(d[:, 2]), np.median(d[:, 3])))
+            lines.append("| %s | %s | %d / %d | %.2f %.2f, %.3f | %.2f %.2f, %.3f |" % (
+                key[0], key[1], len(rs), n, *np.median(d[:, 1:4], axis=0), *np.percentile(d[:, 1:4], 90, axis=0)))
     text = "\n".join(lines) + "\n"
     open(os.path.join(out, "registration.md"), "w").write(text)
+    overview_text = overview(groups)
+    open(os.path.join(out, "registration_overview.md"), "w").write(overview_text)
+    print(overview_text)
     print(text)
     plot(records, out)
+
+
+def overview(groups):
+    """One line per case and method: success per range, and the final mTRE, time, DRRs and memory of both ranges."""
+    names = {"new": "this module (LBFGSB, analytic derivative)", "global": "the same, 4 starts on the first level",
+             "powell": "the earlier Powell method (159ec84)", "classic": "ITK classic (ray caster, NCC, Powell)"}
+    lines = ["| case | method | success 10 mm / 5 deg | success 20 mm / 10 deg | final mTRE median (mm) |"
+             " registration s median | DRRs median | peak RSS MB |", "|---|---|---|---|---|---|---|---|"]
+    for case in sorted({k[0] for k in groups}):
+        for method in ("new", "global", "powell", "classic"):
+            near, far = groups.get((case, method, 10), []), groups.get((case, method, 20), [])
+            both = near + far
+            if not both:
+                continue
+            rate = lambda rs: "%d / %d" % (sum(r["tre"] <= 2.0 for r in rs), len(rs)) if rs else "-"
+            lines.append("| %s | %s | %s | %s | %.2f | %.2f | %.0f | %.0f |" % (
+                case, names[method], rate(near), rate(far), np.median([r["tre"] for r in both]),
+                np.median([r["seconds"] for r in both]), np.median([r["drrs"] for r in both]),
+                np.median([r["rss"] for r in both])))
+    return "\n".join(lines) + "\n"
 
 
 def plot(records, out):
@@ -161,6 +186,8 @@ def plot(records, out):
 
     methods = [m for m in ("new", "global", "powell", "classic") if any(r["method"] == m for r in records)]
     colours = {"new": "tab:blue", "global": "tab:purple", "powell": "tab:orange", "classic": "tab:green"}
+    # Lines that coincide (100% for new and global) stay visible: wide markers under narrow, dashed over solid.
+    styles = {"new": ("o-", 10), "global": ("s--", 5), "powell": ("o-", 7), "classic": ("D-", 7)}
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     edges = np.array([0, 4, 8, 12, 16, 24, 40])
     for m in methods:
@@ -173,7 +200,8 @@ def plot(records, out):
             if inside.sum() >= 3:
                 centres.append(0.5 * (lo + hi))
                 rates.append(100.0 * ok[inside].mean())
-        axes[0].plot(centres, rates, "o-", color=colours[m], label="%s (%d runs)" % (m, len(rs)))
+        style, size = styles[m]
+        axes[0].plot(centres, rates, style, markersize=size, color=colours[m], label="%s (%d runs)" % (m, len(rs)))
     axes[0].set_xlabel("start mTRE (mm)")
     axes[0].set_ylabel("success (final mTRE <= 2 mm), %")
     axes[0].set_ylim(-5, 105)
@@ -184,7 +212,9 @@ def plot(records, out):
     for k, m in enumerate(methods):
         data = [[r["seconds"] for r in records if r["method"] == m and r["case"] == c] or [np.nan] for c in cases]
         positions = np.arange(len(cases)) + (k - (len(methods) - 1) / 2) * width
-        box = axes[1].boxplot(data, positions=positions, widths=width * 0.9, patch_artist=True, showfliers=False)
+        # The median in the method's colour: a method with one run on a case is a box of no height.
+        box = axes[1].boxplot(data, positions=positions, widths=width * 0.9, patch_artist=True, showfliers=False,
+                              medianprops={"color": colours[m], "linewidth": 2.5})
         for patch in box["boxes"]:
             patch.set_facecolor(colours[m])
     axes[1].set_yscale("log")
