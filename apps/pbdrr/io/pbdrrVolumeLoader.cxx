@@ -26,10 +26,12 @@
 #include "pbdrrLoaderText.h"
 #include "pbdrrVolumeFileReader.h"
 
+#include "itkDRRImageFileIntegrity.h"
 #include "itkGDCMImageIO.h"
 #include "itkImageIOFactory.h"
 
 #include <filesystem>
+#include <future>
 #include <sys/stat.h>
 
 namespace pbdrr
@@ -110,23 +112,43 @@ LoadVolumeFile(const std::string & input)
   {
     Fail("cannot read " + input + ": the DICOM file is truncated or damaged (" + truncation + ")");
   }
-  RefuseDamagedImageFile(input);
-  auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::IOFileModeEnum::ReadMode);
-  if (!io)
+  // The integrity check (DRRImageFileIntegrity: a compressed file inflated to its end, as the read inflates it) runs
+  // beside the read, on another core, instead of before it; its verdict, taken after the read or its failure, refuses
+  // a volume the reader filled in silently, with the check's words.
+  std::future<std::string> damage =
+    std::async(std::launch::async, [input] { return itk::DRRImageFileIntegrity::FindDamage(input); });
+  const auto refuseDamaged = [&damage, &input] {
+    const std::string found = damage.get();
+    if (!found.empty())
+    {
+      Fail("cannot read " + input + ": " + found);
+    }
+  };
+  try
   {
-    Fail("cannot read " + input + ": not an image format ITK knows (DICOM directory, .mha, .nrrd, .nii, ...)");
+    auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::IOFileModeEnum::ReadMode);
+    if (!io)
+    {
+      Fail("cannot read " + input + ": not an image format ITK knows (DICOM directory, .mha, .nrrd, .nii, ...)");
+    }
+    if (dynamic_cast<itk::GDCMImageIO *>(io.GetPointer()))
+    {
+      // A DICOM file alone: a multi-frame volume, placed by its frame positions, or a 2D slice (refused).
+      loaded.Image = ReadDicomFile(input, loaded.Notes);
+    }
+    else
+    {
+      io->SetFileName(input);
+      io->ReadImageInformation();
+      ReadVolumeFileInto(input, io, loaded);
+    }
   }
-  if (dynamic_cast<itk::GDCMImageIO *>(io.GetPointer()))
+  catch (...)
   {
-    // A DICOM file alone: a multi-frame volume, placed by its frame positions, or a 2D slice (refused).
-    loaded.Image = ReadDicomFile(input, loaded.Notes);
+    refuseDamaged();
+    throw;
   }
-  else
-  {
-    io->SetFileName(input);
-    io->ReadImageInformation();
-    ReadVolumeFileInto(input, io, loaded);
-  }
+  refuseDamaged();
   loaded.Description = "file " + input;
   return loaded;
 }
