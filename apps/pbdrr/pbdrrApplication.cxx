@@ -339,7 +339,8 @@ DescribeMemory(const TVolume *            volume,
 
 /** `--stream`: the CT's file opened, its header read, no voxel: the exact filter requests it slab by slab. A file whose
  * pixel type an int16 holds (8- or 16-bit signed, 8-bit unsigned) is read as int16 HU, any other as float, as
- * LoadVolume() reads it. A DICOM series (a directory) is refused: ITK reads a series whole. */
+ * LoadVolume() reads it. A DICOM series (a directory) is refused: ITK reads a series whole. A cut or damaged file is
+ * refused by the filters before their first slab (DRRImageFilterBase checks the file of the reader upstream). */
 LoadedVolume
 OpenStreamedVolume(const std::string & input)
 {
@@ -353,14 +354,22 @@ OpenStreamedVolume(const std::string & input)
     throw UsageError("--stream reads a MetaImage, NRRD or NIfTI file slab by slab, not a DICOM series (" + input +
                      " is a directory)");
   }
-  RefuseDamagedImageFile(input); // before the first slab: a streamed reader reads a cut file silently
   auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
   if (!io)
   {
+    RefuseDamagedImageFile(input); // a header cut before ITK can tell the format: say so
     throw std::runtime_error("no ITK image reader reads " + input);
   }
-  io->SetFileName(input);
-  io->ReadImageInformation();
+  try
+  {
+    io->SetFileName(input);
+    io->ReadImageInformation();
+  }
+  catch (const itk::ExceptionObject &)
+  {
+    RefuseDamagedImageFile(input); // a cut header: the check's words rather than the reader's
+    throw;
+  }
   if (io->GetNumberOfDimensions() != 3 || io->GetNumberOfComponents() != 1)
   {
     throw std::runtime_error(input + " is not a 3D scalar volume");
