@@ -30,6 +30,7 @@
 #include "itkGDCMImageIO.h"
 #include "itkImageIOFactory.h"
 
+#include <chrono>
 #include <filesystem>
 #include <future>
 #include <sys/stat.h>
@@ -112,18 +113,24 @@ LoadVolumeFile(const std::string & input)
   {
     Fail("cannot read " + input + ": the DICOM file is truncated or damaged (" + truncation + ")");
   }
-  // The integrity check (DRRImageFileIntegrity: a compressed file inflated to its end, as the read inflates it) runs
-  // beside the read, on another core, instead of before it; its verdict, taken after the read or its failure, refuses
-  // a volume the reader filled in silently, with the check's words.
+  // The integrity check (DRRImageFileIntegrity). Of an uncompressed file it is a stat, done before the read; of a
+  // compressed one it inflates the file to its end, as the read does, so it runs beside the read on another core, and
+  // its verdict, taken after the read or its failure, refuses a volume the reader filled in silently.
   std::future<std::string> damage =
     std::async(std::launch::async, [input] { return itk::DRRImageFileIntegrity::FindDamage(input); });
-  const auto refuseDamaged = [&damage, &input] {
+  bool       verdictTaken = false;
+  const auto refuseDamaged = [&] {
+    verdictTaken = true;
     const std::string found = damage.get();
     if (!found.empty())
     {
       Fail("cannot read " + input + ": " + found);
     }
   };
+  if (damage.wait_for(std::chrono::milliseconds(50)) == std::future_status::ready)
+  {
+    refuseDamaged();
+  }
   try
   {
     auto io = itk::ImageIOFactory::CreateImageIO(input.c_str(), itk::IOFileModeEnum::ReadMode);
@@ -145,10 +152,16 @@ LoadVolumeFile(const std::string & input)
   }
   catch (...)
   {
-    refuseDamaged();
+    if (!verdictTaken)
+    {
+      refuseDamaged();
+    }
     throw;
   }
-  refuseDamaged();
+  if (!verdictTaken)
+  {
+    refuseDamaged();
+  }
   loaded.Description = "file " + input;
   return loaded;
 }
