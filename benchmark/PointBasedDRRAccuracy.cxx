@@ -168,7 +168,7 @@ main(int argc, char * argv[])
   try
   {
     const double start = Now();
-    const auto   volume = pbdrr::LoadVolume(argv[1], "").Image;
+    const auto   volume = pbdrr::LoadVolume(argv[1], "").AsFloat();
     const double loadSeconds = Now() - start;
 
     auto geometry = itk::DRRProjectionGeometry::New();

@@ -71,7 +71,7 @@ void
 Benchmark::Load()
 {
   const double start = Now();
-  m_Volume = pbdrr::LoadVolume(m_Options.Input, "").Image;
+  m_Volume = pbdrr::LoadVolume(m_Options.Input, "").AsFloat();
   m_LoadSeconds = Now() - start;
   const auto         size = m_Volume->GetLargestPossibleRegion().GetSize();
   std::ostringstream text;

@@ -56,20 +56,9 @@ main(int argc, char * argv[])
   }
   try
   {
-    const unsigned             threads = argc == 6 ? static_cast<unsigned>(std::stoul(argv[5])) : 2;
-    const pbdrr::LoadedVolume  loaded = pbdrr::LoadVolume(argv[1], "");
-    pbdrr::VolumeType::Pointer ct = loaded.Image;
-    if (!ct)
-    {
-      ct = pbdrr::VolumeType::New();
-      ct->CopyInformation(loaded.HU);
-      ct->SetRegions(loaded.HU->GetLargestPossibleRegion());
-      ct->Allocate();
-      std::copy(loaded.HU->GetBufferPointer(),
-                loaded.HU->GetBufferPointer() + loaded.HU->GetBufferedRegion().GetNumberOfPixels(),
-                ct->GetBufferPointer());
-    }
-    const pbdrr::XRay xray = pbdrr::ReadXRay(argv[2], argv[3], "", ct);
+    const unsigned                   threads = argc == 6 ? static_cast<unsigned>(std::stoul(argv[5])) : 2;
+    const pbdrr::VolumeType::Pointer ct = pbdrr::LoadVolume(argv[1], "").AsFloat();
+    const pbdrr::XRay                xray = pbdrr::ReadXRay(argv[2], argv[3], "", ct);
     std::printf("points shrink value_ms value_and_derivative_ms ratio (median of 15, %u threads)\n", threads);
     for (const double points : { 1e6, 4e6 })
     {

@@ -197,7 +197,7 @@ public:
   int
   Run()
   {
-    m_Volume = WithIdentityDirection(pbdrr::LoadVolume(m_Options.Input, "").Image);
+    m_Volume = WithIdentityDirection(pbdrr::LoadVolume(m_Options.Input, "").AsFloat());
     m_Centre = itk::DRRProjectionGeometry::ComputeImageCenter(m_Volume);
     m_Poses = MakePoses(m_Options.Poses);
     for (unsigned size : m_Options.Sizes)

@@ -125,17 +125,7 @@ ParseOptions(int argc, char * argv[])
 pbdrr::VolumeType::Pointer
 ReadHU(const std::string & input)
 {
-  pbdrr::LoadedVolume loaded = pbdrr::LoadVolume(input, "");
-  if (loaded.Image)
-    return loaded.Image;
-  auto ct = pbdrr::VolumeType::New();
-  ct->CopyInformation(loaded.HU);
-  ct->SetRegions(loaded.HU->GetLargestPossibleRegion());
-  ct->Allocate();
-  std::copy(loaded.HU->GetBufferPointer(),
-            loaded.HU->GetBufferPointer() + loaded.HU->GetBufferedRegion().GetNumberOfPixels(),
-            ct->GetBufferPointer());
-  return ct;
+  return pbdrr::LoadVolume(input, "").AsFloat();
 }
 
 /** N bone voxels' physical points, drawn at random (seeded) among the voxels of HU >= the threshold. */

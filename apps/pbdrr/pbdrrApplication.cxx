@@ -383,7 +383,7 @@ OpenStreamedVolume(const std::string & input)
     auto reader = itk::ImageFileReader<HUVolumeType>::New();
     reader->SetFileName(input);
     reader->UpdateOutputInformation();
-    loaded.HU = reader->GetOutput();
+    loaded.Set(HUVolumeType::Pointer(reader->GetOutput()));
     loaded.Source = reader;
   }
   else
@@ -391,7 +391,7 @@ OpenStreamedVolume(const std::string & input)
     auto reader = itk::ImageFileReader<VolumeType>::New();
     reader->SetFileName(input);
     reader->UpdateOutputInformation();
-    loaded.Image = reader->GetOutput();
+    loaded.Set(VolumeType::Pointer(reader->GetOutput()));
     loaded.Source = reader;
   }
   return loaded;
@@ -433,7 +433,7 @@ ChooseStreamSlabs(const Options & options)
       renderer.Filter->SetMemoryBudget(budget);
       return renderer.Filter->GetNumberOfSlabs();
     };
-    slabs = header.HU ? count(header.HU.GetPointer()) : count(header.Image.GetPointer());
+    slabs = header.Visit(count);
   }
   catch (const std::exception &)
   {
@@ -645,14 +645,7 @@ Run(const Options & options)
       std::cerr << "pbdrr: " << note << std::endl;
     }
   }
-  if (loaded.HU)
-  {
-    RenderView(viewOptions, loaded, loaded.HU.GetPointer(), spectrum, stages);
-  }
-  else
-  {
-    RenderView(viewOptions, loaded, loaded.Image.GetPointer(), spectrum, stages);
-  }
+  loaded.Visit([&](auto * volume) { RenderView(viewOptions, loaded, volume, spectrum, stages); });
 }
 
 } // namespace pbdrr

@@ -707,14 +707,7 @@ RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & pro
   {
     std::cerr << "pbdrr: " << loaded.Notes[n] << std::endl;
   }
-  if (loaded.HU)
-  {
-    RenderViews(batchOptions, plan, progress, loadSeconds, loaded.HU.GetPointer());
-  }
-  else
-  {
-    RenderViews(batchOptions, plan, progress, loadSeconds, loaded.Image.GetPointer());
-  }
+  loaded.Visit([&](auto * volume) { RenderViews(batchOptions, plan, progress, loadSeconds, volume); });
 }
 
 void

@@ -486,8 +486,7 @@ RunRegister(const RegisterOptions & options)
   }
   // A geometry file's view as a single view of it is built, its default isocenter the CT's centre: built again now
   // that the CT is loaded (above, before the load, to check the X-rays first).
-  const itk::ImageBase<3> * volume =
-    loaded.HU ? static_cast<const itk::ImageBase<3> *>(loaded.HU.GetPointer()) : loaded.Image.GetPointer();
+  const itk::ImageBase<3> * volume = loaded.Grid();
   for (size_t x = 0; x < xrays.size(); ++x)
   {
     if (!options.xrays[x].GeometryFile.empty())
@@ -495,8 +494,8 @@ RunRegister(const RegisterOptions & options)
       xrays[x].Geometry = XRayViewOfFile(options.xrays[x].GeometryFile, volume);
     }
   }
-  const RegistrationResult result = loaded.HU ? RegisterToXRays(loaded.HU.GetPointer(), xrays, options.settings)
-                                              : RegisterToXRays(loaded.Image.GetPointer(), xrays, options.settings);
+  const RegistrationResult result =
+    loaded.Visit([&](auto * ct) { return RegisterToXRays(ct, xrays, options.settings); });
   std::cout << std::fixed << std::setprecision(3) << "pose: " << result.Pose[0] << " " << result.Pose[1] << " "
             << result.Pose[2] << " " << result.Pose[3] << " " << result.Pose[4] << " " << result.Pose[5] << "\n"
             << std::setprecision(4) << "similarity: " << result.Similarity << " (" << options.settings.Metric

@@ -188,8 +188,7 @@ TEST(PbdrrRegistration, RealLocalizerRecoversTheExactProjectorsPoseFromKnownOffs
   pbdrr::RegistrationSettings    exact;
   exact.Exact = true;
   exact.Shrink = { 4, 2 };
-  const auto                  reference = loaded.HU ? pbdrr::RegisterToXRays(loaded.HU.GetPointer(), xrays, exact)
-                                                    : pbdrr::RegisterToXRays(loaded.Image.GetPointer(), xrays, exact);
+  const auto reference = loaded.Visit([&](auto * ct) { return pbdrr::RegisterToXRays(ct, xrays, exact); });
   const std::array<double, 6> offsets[2] = { { { 4.0, -2.5, 2.0, 2.0, -1.5, 1.5 } },
                                              { { -3.0, 3.0, -2.5, -1.5, 2.0, -2.0 } } };
   for (const auto & offset : offsets)
@@ -199,8 +198,7 @@ TEST(PbdrrRegistration, RealLocalizerRecoversTheExactProjectorsPoseFromKnownOffs
     {
       points.StartPose[k] = reference.Pose[k] + offset[k];
     }
-    const auto   found = loaded.HU ? pbdrr::RegisterToXRays(loaded.HU.GetPointer(), xrays, points)
-                                   : pbdrr::RegisterToXRays(loaded.Image.GetPointer(), xrays, points);
+    const auto   found = loaded.Visit([&](auto * ct) { return pbdrr::RegisterToXRays(ct, xrays, points); });
     const double tolerance[6] = { 1.5, 0.6, 0.6, 0.1, 1.0, 1.0 };
     for (unsigned k = 0; k < 6; ++k)
     {

@@ -133,15 +133,11 @@ TEST(PbdrrVolumeLoader, Jpeg2000SlicesDecodeToTheRangeTheirHeadersDeclare)
   // The slice's values, whichever type the loader chose (int16 when the headers say they fit).
   const auto sliceRange = [&](size_t k) {
     const size_t pixels = size[0] * size[1];
-    if (loaded.HU)
-    {
-      const int16_t * slice = loaded.HU->GetBufferPointer() + k * pixels;
-      const auto      range = std::minmax_element(slice, slice + pixels);
+    return loaded.Visit([&](const auto * volume) {
+      const auto * slice = volume->GetBufferPointer() + k * pixels;
+      const auto   range = std::minmax_element(slice, slice + pixels);
       return std::make_pair(static_cast<double>(*range.first), static_cast<double>(*range.second));
-    }
-    const float * slice = loaded.Image->GetBufferPointer() + k * pixels;
-    const auto    range = std::minmax_element(slice, slice + pixels);
-    return std::make_pair(static_cast<double>(*range.first), static_cast<double>(*range.second));
+    });
   };
   ASSERT_EQ(size[0], 512u);
   ASSERT_EQ(size[1], 512u);
@@ -201,22 +197,29 @@ TEST(PbdrrVolumeLoader, AnInt16CtIsHeldAsInt16AndOtherVolumesAsFloat)
   ASSERT_TRUE(fs::exists(series) && fs::exists(phantom) && fs::exists(extremes))
     << "run the pbdrr.MakeTestVolumes fixture first";
   const auto dicom = pbdrr::LoadVolume(series.string(), "");
-  ASSERT_TRUE(dicom.HU) << "the test series is 16-bit with slope 1";
-  EXPECT_FALSE(dicom.Image);
+  EXPECT_TRUE(dicom.HoldsHU()) << "the test series is 16-bit with slope 1";
   const auto file = pbdrr::LoadVolume(phantom.string(), "");
-  ASSERT_TRUE(file.HU);
-  EXPECT_FALSE(file.Image);
+  ASSERT_TRUE(file.HoldsHU());
+  // The int16 volume, in its own type and as float (a copy), holds the values ITK's reader reads as float.
   const auto   asFloat = itk::ReadImage<pbdrr::VolumeType>(phantom.string());
+  const auto   copied = file.AsFloat();
   const size_t voxels = asFloat->GetBufferedRegion().GetNumberOfPixels();
-  ASSERT_EQ(file.HU->GetBufferedRegion().GetNumberOfPixels(), voxels);
+  ASSERT_EQ(copied->GetBufferedRegion().GetNumberOfPixels(), voxels);
+  EXPECT_TRUE(copied->GetOrigin() == asFloat->GetOrigin() && copied->GetSpacing() == asFloat->GetSpacing() &&
+              copied->GetDirection() == asFloat->GetDirection());
   size_t different = 0;
-  for (size_t v = 0; v < voxels; ++v)
-  {
-    different += static_cast<float>(file.HU->GetBufferPointer()[v]) != asFloat->GetBufferPointer()[v] ? 1 : 0;
-  }
+  file.Visit([&](const auto * volume) {
+    ASSERT_EQ(sizeof(*volume->GetBufferPointer()), 2u);
+    for (size_t v = 0; v < voxels; ++v)
+    {
+      different += static_cast<float>(volume->GetBufferPointer()[v]) != asFloat->GetBufferPointer()[v] ? 1 : 0;
+      different += copied->GetBufferPointer()[v] != asFloat->GetBufferPointer()[v] ? 1 : 0;
+    }
+  });
   EXPECT_EQ(different, 0u);
   const auto floating = pbdrr::LoadVolume(extremes.string(), "");
-  EXPECT_FALSE(floating.HU);
-  ASSERT_TRUE(floating.Image);
-  EXPECT_EQ(floating.Grid(), floating.Image.GetPointer());
+  EXPECT_FALSE(floating.HoldsHU());
+  EXPECT_EQ(floating.Grid(), floating.AsFloat().GetPointer()) << "a float volume is handed over, not copied";
+  // An empty one says so instead of handing over null.
+  EXPECT_THROW(pbdrr::LoadedVolume().Grid(), std::logic_error);
 }

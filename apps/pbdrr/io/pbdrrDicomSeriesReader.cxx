@@ -196,11 +196,11 @@ ReadDicomSeries(const std::vector<std::string> & files,
   // CT as stored (2 bytes per voxel) when every slice's values fit an int16, as they do on nearly every scanner.
   if (holdsInt16)
   {
-    loaded.HU = ReadSlices<HUVolumeType>(files, stack, progress);
+    loaded.Set(ReadSlices<HUVolumeType>(files, stack, progress));
   }
   else
   {
-    loaded.Image = ReadSlices<VolumeType>(files, stack, progress);
+    loaded.Set(ReadSlices<VolumeType>(files, stack, progress));
   }
   RefuseDamagedPixelData(warnings, files);
 }

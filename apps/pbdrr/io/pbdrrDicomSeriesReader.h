@@ -29,8 +29,8 @@ namespace pbdrr
  * they form one regular grid (CheckSliceStack); the third spacing is the slices' own, not GDCM's. Refused, with
  * std::runtime_error, if they do not or if GDCM finds their pixel data damaged. `notDicom` (the files of `directory`
  * that are not DICOM) are named beside a refusal of the slices: a slice cut to a few bytes is one of them. `progress`
- * (may be empty) is told the files read as the reader goes. The volume goes to loaded.HU (int16, 2 bytes per voxel)
- * when every slice's stored bits, slope and intercept give integers an int16 holds, else to loaded.Image (float). */
+ * (may be empty) is told the files read as the reader goes. The volume is held as int16 HU (2 bytes per voxel)
+ * when every slice's stored bits, slope and intercept give integers an int16 holds, else as float (LoadedVolume::Set). */
 void
 ReadDicomSeries(const std::vector<std::string> & files,
                 const std::vector<std::string> & notDicom,

@@ -94,9 +94,9 @@ ReadVolumeFileInto(const std::string & path, const itk::ImageIOBase::Pointer & i
   const ComponentEnum component = io->GetComponentType();
   if (component == ComponentEnum::CHAR || component == ComponentEnum::UCHAR || component == ComponentEnum::SHORT)
   {
-    loaded.HU = ReadVolumeFileAs<HUVolumeType>(path, io);
+    loaded.Set(ReadVolumeFileAs<HUVolumeType>(path, io));
     return;
   }
-  loaded.Image = ReadVolumeFileAs<VolumeType>(path, io);
+  loaded.Set(ReadVolumeFileAs<VolumeType>(path, io));
 }
 } // namespace pbdrr

@@ -30,9 +30,11 @@
 #include "itkGDCMImageIO.h"
 #include "itkImageIOFactory.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <future>
+#include <stdexcept>
 #include <sys/stat.h>
 
 namespace pbdrr
@@ -92,7 +94,7 @@ LoadDicomDirectory(const std::string & directory, const std::string & seriesUID,
   if (chosen.Files.size() == 1)
   {
     // One file: a multi-frame volume, or a single slice (refused as 2D).
-    loaded.Image = ReadDicomFile(chosen.Files[0], loaded.Notes);
+    loaded.Set(ReadDicomFile(chosen.Files[0], loaded.Notes));
   }
   else
   {
@@ -141,7 +143,7 @@ LoadVolumeFile(const std::string & input)
     if (dynamic_cast<itk::GDCMImageIO *>(io.GetPointer()))
     {
       // A DICOM file alone: a multi-frame volume, placed by its frame positions, or a 2D slice (refused).
-      loaded.Image = ReadDicomFile(input, loaded.Notes);
+      loaded.Set(ReadDicomFile(input, loaded.Notes));
     }
     else
     {
@@ -166,6 +168,61 @@ LoadVolumeFile(const std::string & input)
   return loaded;
 }
 } // namespace
+
+void
+LoadedVolume::Set(HUVolumeType::Pointer volume)
+{
+  if (!volume)
+  {
+    ThrowNotSet();
+  }
+  m_HU = volume;
+  m_Image = nullptr;
+}
+
+void
+LoadedVolume::Set(VolumeType::Pointer volume)
+{
+  if (!volume)
+  {
+    ThrowNotSet();
+  }
+  m_Image = volume;
+  m_HU = nullptr;
+}
+
+VolumeType::Pointer
+LoadedVolume::AsFloat() const
+{
+  if (m_Image)
+  {
+    return m_Image;
+  }
+  if (!m_HU)
+  {
+    ThrowNotSet();
+  }
+  auto volume = VolumeType::New();
+  volume->CopyInformation(m_HU);
+  volume->SetRegions(m_HU->GetBufferedRegion());
+  volume->Allocate();
+  std::copy(m_HU->GetBufferPointer(),
+            m_HU->GetBufferPointer() + m_HU->GetBufferedRegion().GetNumberOfPixels(),
+            volume->GetBufferPointer());
+  return volume;
+}
+
+const itk::ImageBase<3> *
+LoadedVolume::Grid() const
+{
+  return Visit([](const itk::ImageBase<3> * volume) { return volume; });
+}
+
+void
+LoadedVolume::ThrowNotSet()
+{
+  throw std::logic_error("pbdrr: a LoadedVolume used before a volume was set in it");
+}
 
 LoadedVolume
 LoadVolume(const std::string & input, const std::string & seriesUID, const LoadProgress & progress)

@@ -31,25 +31,71 @@ using VolumeType = itk::Image<float, 3>;
 /** A CT as scanners store it, HU in int16 (2 bytes per voxel): what the filters read in place. */
 using HUVolumeType = itk::Image<int16_t, 3>;
 
-/** A volume read for rendering, with what the user should be told about it. Exactly one of HU and Image is set: HU for
- * a volume whose file says every value is an integer an int16 holds (DICOM: its stored bits, slope and intercept;
- * other files: an 8- or 16-bit signed or 8-bit unsigned pixel type), Image for any other. */
-struct LoadedVolume
+/** A volume read for rendering, with what the user should be told about it. It holds the volume in one of two pixel
+ * types: int16 HU (2 bytes per voxel, what the filters read in place) when the file says every value is an integer an
+ * int16 holds (DICOM: its stored bits, slope and intercept; other files: an 8- or 16-bit signed or 8-bit unsigned pixel
+ * type), float for any other. The volume is reached only through Visit() (in its own type), AsFloat() (as float,
+ * whatever it was read as) or Grid(): no field a caller can read as null. */
+class LoadedVolume
 {
-  HUVolumeType::Pointer    HU;
-  VolumeType::Pointer      Image;
+public:
+  /** Holds volume, read as int16 HU, or as float (not null). */
+  void
+  Set(HUVolumeType::Pointer volume);
+  void
+  Set(VolumeType::Pointer volume);
+
+  /** True once Set(): a loader that returns a LoadedVolume has set it. */
+  bool
+  IsSet() const
+  {
+    return m_HU || m_Image;
+  }
+
+  /** True if the volume is held as int16 HU. */
+  bool
+  HoldsHU() const
+  {
+    return m_HU.IsNotNull();
+  }
+
+  /** Calls visit with the volume in its own type (HUVolumeType * or VolumeType *) and returns what it returns: the
+   * templated filters take either. Throws std::logic_error if no volume is held. */
+  template <typename TVisitor>
+  decltype(auto)
+  Visit(TVisitor && visit) const
+  {
+    if (m_HU)
+    {
+      return visit(m_HU.GetPointer());
+    }
+    if (!m_Image)
+    {
+      ThrowNotSet();
+    }
+    return visit(m_Image.GetPointer());
+  }
+
+  /** The volume as float values: the one held, or a float copy of the int16 one (4 bytes per voxel). Never null. */
+  VolumeType::Pointer
+  AsFloat() const;
+
+  /** The volume, whichever its pixel type: its grid. Never null once set. */
+  const itk::ImageBase<3> *
+  Grid() const;
+
   std::string              Description; // where it came from: file, or DICOM series and its slices
   std::vector<std::string> Notes;       // e.g. "3 series in DIR; using ..."
   /** The reader of a streamed volume (`--stream`), kept alive: an image holds only a weak pointer to its source, and
    * the filter requests the volume from it slab by slab. Null for a volume read whole. */
   itk::ProcessObject::Pointer Source;
 
-  /** The volume, whichever its pixel type: its grid. */
-  const itk::ImageBase<3> *
-  Grid() const
-  {
-    return HU ? static_cast<const itk::ImageBase<3> *>(HU.GetPointer()) : Image.GetPointer();
-  }
+private:
+  [[noreturn]] static void
+  ThrowNotSet();
+
+  HUVolumeType::Pointer m_HU;
+  VolumeType::Pointer   m_Image;
 };
 
 /** Told how many files of a DICOM series have been read, of how many, while they are read (for a progress line): by the
