@@ -21,6 +21,8 @@
 #include "PointBasedDRRExport.h"
 #include <cstdint>
 #include <iostream>
+#include <string>
+#include <vector>
 
 namespace itk
 {
@@ -125,6 +127,37 @@ public:
      * and along the columns (the default of the registration). */
     GradientCorrelation
   };
+
+  /** The registered names of a policy family (TEnum: Projection, ReconstructionKernel or Splat), lower case, in
+   * registration order, the default first: `perspective`, `parallel`, `localizer`; `box`, `tent`; `nearest`,
+   * `bilinear`. The engine registers each policy once (DRRPolicies); what lists them (pbdrr's options and help, the
+   * tests) asks here. */
+  template <typename TEnum>
+  static std::vector<std::string>
+  GetNames();
+
+  /** The registered name of an enumerator (`tent`; operator<< prints its enumerator name, `Tent`). @{ */
+  static std::string
+  GetName(Projection value);
+  static std::string
+  GetName(ReconstructionKernel value);
+  static std::string
+  GetName(Splat value);
+  /** @} */
+
+  /** Sets value to the enumerator registered as name and returns true; false (value untouched) if none is. */
+  template <typename TEnum>
+  static bool
+  FromName(const std::string & name, TEnum & value);
+
+  /** True for a beam whose rays start at a source (perspective, localizer); false for the parallel beam. */
+  static bool
+  HasSource(Projection value);
+
+  /** The name of the exact projector of a kernel's attenuation model (`siddon` for box, `trilinear` for tent), or ""
+   * if it has none. */
+  static std::string
+  GetExactReferenceName(ReconstructionKernel value);
 };
 
 /** Writes the name of the enumerator (e.g. `Perspective`). @{ */

@@ -20,6 +20,88 @@
 
 namespace itk
 {
+namespace
+{
+/** The registered policy list of each policy enumeration. */
+template <typename TEnum>
+struct PolicyListOf;
+template <>
+struct PolicyListOf<PointBasedDRREnums::Projection>
+{
+  using Type = DRRPolicies::Beams;
+};
+template <>
+struct PolicyListOf<PointBasedDRREnums::ReconstructionKernel>
+{
+  using Type = DRRPolicies::Kernels;
+};
+template <>
+struct PolicyListOf<PointBasedDRREnums::Splat>
+{
+  using Type = DRRPolicies::Splats;
+};
+} // namespace
+
+template <typename TEnum>
+std::vector<std::string>
+PointBasedDRREnums::GetNames()
+{
+  return PolicyListOf<TEnum>::Type::GetNames();
+}
+
+template <typename TEnum>
+bool
+PointBasedDRREnums::FromName(const std::string & name, TEnum & value)
+{
+  return PolicyListOf<TEnum>::Type::FindByName(name, value);
+}
+
+template PointBasedDRR_EXPORT std::vector<std::string>
+                              PointBasedDRREnums::GetNames<PointBasedDRREnums::Projection>();
+template PointBasedDRR_EXPORT std::vector<std::string>
+                              PointBasedDRREnums::GetNames<PointBasedDRREnums::ReconstructionKernel>();
+template PointBasedDRR_EXPORT std::vector<std::string>
+                              PointBasedDRREnums::GetNames<PointBasedDRREnums::Splat>();
+template PointBasedDRR_EXPORT bool
+PointBasedDRREnums::FromName(const std::string &, PointBasedDRREnums::Projection &);
+template PointBasedDRR_EXPORT bool
+PointBasedDRREnums::FromName(const std::string &, PointBasedDRREnums::ReconstructionKernel &);
+template PointBasedDRR_EXPORT bool
+PointBasedDRREnums::FromName(const std::string &, PointBasedDRREnums::Splat &);
+
+std::string
+PointBasedDRREnums::GetName(Projection value)
+{
+  return DRRPolicies::Beams::GetName(value);
+}
+
+std::string
+PointBasedDRREnums::GetName(ReconstructionKernel value)
+{
+  return DRRPolicies::Kernels::GetName(value);
+}
+
+std::string
+PointBasedDRREnums::GetName(Splat value)
+{
+  return DRRPolicies::Splats::GetName(value);
+}
+
+bool
+PointBasedDRREnums::HasSource(Projection value)
+{
+  return DRRPolicies::Beams::Visit(value, [](auto beam) { return decltype(beam)::HasSource; });
+}
+
+std::string
+PointBasedDRREnums::GetExactReferenceName(ReconstructionKernel value)
+{
+  return DRRPolicies::Kernels::Visit(value, [](auto policy) {
+    using Kernel = decltype(policy);
+    return std::string(Kernel::ExactReference ? Kernel::ExactReference : "");
+  });
+}
+
 std::ostream &
 operator<<(std::ostream & out, const PointBasedDRREnums::Projection value)
 {

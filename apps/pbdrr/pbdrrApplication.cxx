@@ -29,7 +29,6 @@
 
 #include "itkCommand.h"
 #include "itkDRRMemoryBudget.h"
-#include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRQuantumNoiseImageFilter.h"
 #include "itkExactDRRImageFilter.h"
@@ -219,7 +218,7 @@ DescribeGeometry(const itk::DRRProjectionGeometry * g)
 {
   std::ostringstream s;
   const auto         number = [](double value) { return RoundedForDisplay(value); };
-  s << itk::DRRPolicies::Beams::GetName(g->GetProjection()) << ", SAD " << number(g->GetSourceToIsocenterDistance())
+  s << itk::PointBasedDRREnums::GetName(g->GetProjection()) << ", SAD " << number(g->GetSourceToIsocenterDistance())
     << " mm, SID " << number(g->GetSourceToDetectorDistance()) << " mm, isocenter " << FormatTriple(g->GetIsocenter())
     << ", nrm " << FormatTriple(g->GetNormal()) << ", vup " << FormatTriple(g->GetViewUp()) << ", detector "
     << g->GetDetectorSize()[0] << " cols x " << g->GetDetectorSize()[1] << " rows at "
@@ -533,8 +532,8 @@ RenderView(const Options &                               options,
     if (pointBased)
     {
       std::cerr << "pbdrr: sampler " << options.sampler << ", samples " << options.samples << ", seed " << options.seed
-                << ", kernel " << itk::DRRPolicies::Kernels::GetName(options.kernel) << ", splat "
-                << itk::DRRPolicies::Splats::GetName(options.splat) << ", attenuation mass M "
+                << ", kernel " << itk::PointBasedDRREnums::GetName(options.kernel) << ", splat "
+                << itk::PointBasedDRREnums::GetName(options.splat) << ", attenuation mass M "
                 << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
                 << std::endl;
       if (const itk::DRRControlVariate * split = pointBased->GetControlVariate())

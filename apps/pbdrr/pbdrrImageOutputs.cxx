@@ -20,7 +20,6 @@
 #include "pbdrrOutputFiles.h"
 
 #include "itkDRROutputConversion.h"
-#include "itkDRRPolicies.h"
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRProjectionMatrixFileIO.h"
 #include "itkImageFileWriter.h"
@@ -198,7 +197,7 @@ WriteGeometryBeside(const std::string & output, const itk::DRRProjectionGeometry
   }
   else
   {
-    text << "# a " << itk::DRRPolicies::Beams::GetName(geometry->GetProjection())
+    text << "# a " << itk::PointBasedDRREnums::GetName(geometry->GetProjection())
          << " beam has no 3 x 4 projection matrix: the view is the keys below\n";
   }
   itk::DRRProjectionGeometryFileIO::WriteToStream(text, geometry);

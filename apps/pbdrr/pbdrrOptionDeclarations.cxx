@@ -22,7 +22,6 @@
 #include "pbdrrMessages.h"
 #include "itkDRRControlVariate.h"
 #include "itkDRRNumberParser.h"
-#include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 
 #include <algorithm>
@@ -35,22 +34,34 @@ namespace pbdrr
 namespace
 {
 /** The help's list of a policy option's values: a line per registered name, with its help line (PolicyHelpLine()). */
+std::string
+PolicyChoices(const std::vector<std::string> & names)
+{
+  size_t width = 0;
+  for (const std::string & name : names)
+  {
+    width = std::max(width, name.size());
+  }
+  std::ostringstream lines;
+  for (const std::string & name : names)
+  {
+    lines << "                           " << name << std::string(width + 2 - name.size(), ' ') << PolicyHelpLine(name)
+          << "\n";
+  }
+  return lines.str();
+}
+
+/** The same for a registry's entries (DRRSamplerFactory::GetEntries()). */
 template <typename TEntries>
 std::string
 PolicyChoices(const TEntries & entries)
 {
-  size_t width = 0;
+  std::vector<std::string> names;
   for (const auto & entry : entries)
   {
-    width = std::max(width, entry.Name.size());
+    names.push_back(entry.Name);
   }
-  std::ostringstream lines;
-  for (const auto & entry : entries)
-  {
-    lines << "                           " << entry.Name << std::string(width + 2 - entry.Name.size(), ' ')
-          << PolicyHelpLine(entry.Name) << "\n";
-  }
-  return lines.str();
+  return PolicyChoices(names);
 }
 
 /** The help's list of the values of --exact: the exact projector of each kernel that has one. */
@@ -58,12 +69,14 @@ std::string
 ExactReferenceLines()
 {
   std::string lines;
-  for (const auto & entry : itk::DRRPolicies::Kernels::GetEntries())
+  for (const std::string & name : itk::PointBasedDRREnums::GetNames<itk::PointBasedDRREnums::ReconstructionKernel>())
   {
-    const std::string reference = ExactReferenceName(entry.Id);
+    itk::PointBasedDRREnums::ReconstructionKernel kernel{};
+    itk::PointBasedDRREnums::FromName(name, kernel);
+    const std::string reference = itk::PointBasedDRREnums::GetExactReferenceName(kernel);
     if (!reference.empty())
     {
-      lines += "                           " + reference + ": the exact projector of the " + entry.Name + " model\n";
+      lines += "                           " + reference + ": the exact projector of the " + name + " model\n";
     }
   }
   return lines;
@@ -83,9 +96,10 @@ OptionDeclarations()
                                "--angles, --views or --rtk-geometry";
   const char * const polychromatic =
     "--spectrum and --kvp render one view; a batch renders line integrals at one energy";
-  using Beams = itk::DRRPolicies::Beams;
-  using Kernels = itk::DRRPolicies::Kernels;
-  using Splats = itk::DRRPolicies::Splats;
+  using Beams = itk::PointBasedDRREnums::Projection;
+  using Kernels = itk::PointBasedDRREnums::ReconstructionKernel;
+  using Splats = itk::PointBasedDRREnums::Splat;
+  using itk::PointBasedDRREnums;
   const Options      defaults; // the defaults the help states, where Options holds them
   const char * const inRows = "--manifest gives each volume its views and outputs: --angles, --views, --rtk-geometry, "
                               "--view-index and --stack go in its rows, or in a run of one volume";
@@ -214,10 +228,12 @@ OptionDeclarations()
       "",
       OptionGroup::Geometry,
       "NAME",
-      Beams::GetName(Beams::GetEntries().front().Id),
+      PointBasedDRREnums::GetNames<Beams>().front(),
       "the beam (default {default}):",
-      [](Options & o, const Values & v) { o.projection = Policy<itk::DRRPolicies::Beams>(v[0], "--projection"); },
-      PolicyChoices(Beams::GetEntries()) },
+      [](Options & o, const Values & v) {
+        o.projection = Policy<itk::PointBasedDRREnums::Projection>(v[0], "--projection");
+      },
+      PolicyChoices(PointBasedDRREnums::GetNames<Beams>()) },
     { "--projection-matrix",
       "",
       1,
@@ -268,10 +284,12 @@ OptionDeclarations()
       "",
       OptionGroup::Rendering,
       "NAME",
-      Kernels::GetName(defaults.kernel),
+      PointBasedDRREnums::GetName(defaults.kernel),
       "where in its voxel a point goes (default {default}):",
-      [](Options & o, const Values & v) { o.kernel = Policy<itk::DRRPolicies::Kernels>(v[0], "--kernel"); },
-      PolicyChoices(Kernels::GetEntries()) },
+      [](Options & o, const Values & v) {
+        o.kernel = Policy<itk::PointBasedDRREnums::ReconstructionKernel>(v[0], "--kernel");
+      },
+      PolicyChoices(PointBasedDRREnums::GetNames<Kernels>()) },
     { "--splat",
       "",
       1,
@@ -279,10 +297,10 @@ OptionDeclarations()
       "",
       OptionGroup::Rendering,
       "NAME",
-      Splats::GetName(defaults.splat),
+      PointBasedDRREnums::GetName(defaults.splat),
       "how a point lands on the detector (default {default}):",
-      [](Options & o, const Values & v) { o.splat = Policy<itk::DRRPolicies::Splats>(v[0], "--splat"); },
-      PolicyChoices(Splats::GetEntries()) },
+      [](Options & o, const Values & v) { o.splat = Policy<itk::PointBasedDRREnums::Splat>(v[0], "--splat"); },
+      PolicyChoices(PointBasedDRREnums::GetNames<Splats>()) },
     { "--strata",
       "",
       1,

@@ -21,7 +21,6 @@
 #include "pbdrrMessages.h"
 #include "itkDRRControlVariate.h"
 #include "itkDRRNumberParser.h"
-#include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 
 #include <algorithm>
@@ -51,12 +50,14 @@ itk::PointBasedDRREnums::ReconstructionKernel
 ExactReferenceKernel(const std::string & value)
 {
   std::vector<std::string> references;
-  for (const auto & entry : itk::DRRPolicies::Kernels::GetEntries())
+  for (const std::string & name : itk::PointBasedDRREnums::GetNames<itk::PointBasedDRREnums::ReconstructionKernel>())
   {
-    const std::string reference = ExactReferenceName(entry.Id);
+    itk::PointBasedDRREnums::ReconstructionKernel kernel{};
+    itk::PointBasedDRREnums::FromName(name, kernel);
+    const std::string reference = itk::PointBasedDRREnums::GetExactReferenceName(kernel);
     if (reference == value)
     {
-      return entry.Id;
+      return kernel;
     }
     if (!reference.empty())
     {

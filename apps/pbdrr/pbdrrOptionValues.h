@@ -51,15 +51,16 @@ ThrowNotOneOf(const std::string & value, const std::string & flag, const std::ve
 std::string
 OneOf(const std::string & value, const std::string & flag, const std::vector<std::string> & allowed);
 
-/** The enumerator of the registered policy named value (e.g. DRRPolicies::Kernels, `tent`). */
-template <typename TPolicies>
-typename TPolicies::EnumType
+/** The enumerator of the registered policy named value (TEnum: PointBasedDRREnums::ReconstructionKernel and `tent`,
+ * ...; the names are PointBasedDRREnums::GetNames<TEnum>()). */
+template <typename TEnum>
+TEnum
 Policy(const std::string & value, const std::string & flag)
 {
-  typename TPolicies::EnumType id{};
-  if (!TPolicies::FindByName(value, id))
+  TEnum id{};
+  if (!itk::PointBasedDRREnums::FromName(value, id))
   {
-    ThrowNotOneOf(value, flag, TPolicies::GetNames());
+    ThrowNotOneOf(value, flag, itk::PointBasedDRREnums::GetNames<TEnum>());
   }
   return id;
 }

@@ -19,7 +19,6 @@
 #include "pbdrrMessages.h"
 #include "itkDRRControlVariate.h"
 #include "itkDRRNumberParser.h"
-#include "itkDRRPolicies.h"
 #include "itkDRRSamplerFactory.h"
 
 #include <algorithm>
@@ -84,10 +83,7 @@ PolicyHelpNames()
 std::string
 ExactReferenceName(itk::PointBasedDRREnums::ReconstructionKernel kernel)
 {
-  return itk::DRRPolicies::Kernels::Visit(kernel, [](auto policy) {
-    using Kernel = decltype(policy);
-    return std::string(Kernel::ExactReference ? Kernel::ExactReference : "");
-  });
+  return itk::PointBasedDRREnums::GetExactReferenceName(kernel);
 }
 
 double

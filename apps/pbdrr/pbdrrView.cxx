@@ -19,7 +19,6 @@
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrMessages.h"
 
-#include "itkDRRPolicies.h"
 #include "itkDRRProjectionMatrixFileIO.h"
 
 #include <algorithm>
@@ -231,7 +230,7 @@ void
 VerifyView(const itk::DRRProjectionGeometry * geometry)
 {
   geometry->VerifyGeometry();
-  if (itk::DRRPolicies::Beams::Visit(geometry->GetProjection(), [](auto beam) { return decltype(beam)::HasSource; }) &&
+  if (itk::PointBasedDRREnums::HasSource(geometry->GetProjection()) &&
       !(geometry->GetSourceToDetectorDistance() > geometry->GetSourceToIsocenterDistance()))
   {
     // The render keeps what lies between the source and the detector: the volume would be behind it, the image empty.

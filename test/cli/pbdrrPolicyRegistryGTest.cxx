@@ -113,6 +113,11 @@ CheckPolicyList(const std::string & option)
     typename TPolicies::EnumType parsed{};
     ASSERT_TRUE(TPolicies::FindByName(entry.Name, parsed)) << entry.Name;
     EXPECT_EQ(parsed, entry.Id);
+    // The public API (what pbdrr and users ask, PointBasedDRREnums) says what the registry says.
+    typename TPolicies::EnumType publicParsed{};
+    ASSERT_TRUE(itk::PointBasedDRREnums::FromName(entry.Name, publicParsed)) << entry.Name;
+    EXPECT_EQ(publicParsed, entry.Id);
+    EXPECT_EQ(itk::PointBasedDRREnums::GetName(entry.Id), entry.Name);
     if (!option.empty())
     {
       EXPECT_TRUE(HelpLists(help, entry.Name, pbdrr::PolicyHelpLine(entry.Name)))
@@ -125,6 +130,10 @@ CheckPolicyList(const std::string & option)
     EXPECT_EQ(ParseError({ "in.mha", "-o", "out.mha", option, "no-such-policy" }),
               option + " expects one of " + Joined(TPolicies::GetNames()) + ", got 'no-such-policy'");
   }
+  EXPECT_EQ(itk::PointBasedDRREnums::GetNames<typename TPolicies::EnumType>(), TPolicies::GetNames());
+  typename TPolicies::EnumType untouched = TPolicies::GetEntries().back().Id;
+  EXPECT_FALSE(itk::PointBasedDRREnums::FromName("no-such-policy", untouched));
+  EXPECT_EQ(untouched, TPolicies::GetEntries().back().Id) << "a name not registered leaves the value alone";
   const auto unregistered = static_cast<typename TPolicies::EnumType>(200);
   EXPECT_THROW(TPolicies::GetName(unregistered), itk::ExceptionObject);
   std::ostringstream printed;
@@ -148,12 +157,30 @@ TEST(PolicyRegistry, BeamsAreRegisteredOnce)
   CheckPolicyList<itk::DRRPolicies::Beams>("");
 }
 
+TEST(PolicyRegistry, BeamsSayWhetherTheyHaveASource)
+{
+  for (const auto & entry : itk::DRRPolicies::Beams::GetEntries())
+  {
+    EXPECT_EQ(itk::PointBasedDRREnums::HasSource(entry.Id),
+              itk::DRRPolicies::Beams::Visit(entry.Id, [](auto beam) { return decltype(beam)::HasSource; }))
+      << entry.Name;
+  }
+  EXPECT_FALSE(itk::PointBasedDRREnums::HasSource(itk::PointBasedDRREnums::Projection::Parallel));
+}
+
 TEST(PolicyRegistry, EveryExactReferenceIsOfferedByExact)
 {
   std::vector<std::string> references;
   for (const auto & entry : itk::DRRPolicies::Kernels::GetEntries())
   {
     const std::string reference = pbdrr::ExactReferenceName(entry.Id);
+    EXPECT_EQ(itk::PointBasedDRREnums::GetExactReferenceName(entry.Id),
+              itk::DRRPolicies::Kernels::Visit(
+                entry.Id,
+                [](auto kernel) {
+                  return std::string(decltype(kernel)::ExactReference ? decltype(kernel)::ExactReference : "");
+                }))
+      << entry.Name;
     if (!reference.empty())
     {
       references.push_back(reference);

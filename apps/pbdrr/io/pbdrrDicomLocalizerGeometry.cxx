@@ -18,7 +18,6 @@
 #include "pbdrrDicomLocalizerGeometry.h"
 #include "pbdrrDicomValues.h"
 
-#include "itkDRRLocalizerBeam.h"
 #include "gdcmAttribute.h"
 #include "gdcmReader.h"
 
@@ -144,7 +143,7 @@ ReadLocalizerView(const std::string & path)
                    alongRows[a] * rowPitch * 0.5 * (rows[0] - 1.0);
   }
   auto geometry = itk::DRRProjectionGeometry::New();
-  geometry->SetProjection(itk::DRRLocalizerBeam::Id);
+  geometry->SetProjection(itk::PointBasedDRREnums::Projection::Localizer);
   geometry->SetSourceToIsocenterDistance(sad);
   geometry->SetSourceToDetectorDistance(sid);
   geometry->SetNormal(itk::CrossProduct(alongRows, alongColumns));

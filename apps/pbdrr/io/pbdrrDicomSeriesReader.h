@@ -30,7 +30,8 @@ namespace pbdrr
  * std::runtime_error, if they do not or if GDCM finds their pixel data damaged. `notDicom` (the files of `directory`
  * that are not DICOM) are named beside a refusal of the slices: a slice cut to a few bytes is one of them. `progress`
  * (may be empty) is told the files read as the reader goes. The volume is held as int16 HU (2 bytes per voxel)
- * when every slice's stored bits, slope and intercept give integers an int16 holds, else as float (LoadedVolume::Set). */
+ * when every slice's stored bits, slope and intercept give integers an int16 holds, else as float (LoadedVolume::Set).
+ */
 void
 ReadDicomSeries(const std::vector<std::string> & files,
                 const std::vector<std::string> & notDicom,
