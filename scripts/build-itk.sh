@@ -6,7 +6,7 @@
 #   e.g. nohup nice -n 19 bash scripts/build-itk.sh /work/itk/src-6.0 /work/itk/build-6.0 2 > /work/itk/build-6.0.log 2>&1 &
 #
 # What it builds: ITK (shared libraries, Release, BUILD_TESTING=OFF, BUILD_EXAMPLES=OFF, ITK_BUILD_DEFAULT_MODULES=OFF)
-# with the modules of CMakeLists.txt's find_package(ITK ... COMPONENTS ...) and of itk-module.cmake (the TEST_DEPENDS
+# with the modules of CMake/PointBasedDRRProgramITK.cmake's find_package(ITK ... COMPONENTS ...) and of itk-module.cmake (the TEST_DEPENDS
 # ITKTestKernel and ITKGoogleTest, for the in-ITK test driver and PointBasedDRR.ITKModuleTestConfigure), plus ITKIOXML
 # (issue 31, item 4) and whatever ITK adds as their dependencies. ITK 6 (ITK_VERSION_MAJOR >= 6 in the source) also gets
 # ITK_LEGACY_REMOVE=ON, so that removed 5.x spellings are errors. zlib, PNG, TIFF, JPEG, expat and
@@ -46,7 +46,7 @@ shift 2
 }
 mkdir -p "$build"
 
-# The modules of the top CMakeLists.txt's find_package(ITK ... COMPONENTS) and of itk-module.cmake.
+# The modules of CMake/PointBasedDRRProgramITK.cmake's find_package(ITK ... COMPONENTS) and of itk-module.cmake.
 modules=(ITKCommon ITKTransform ITKImageFunction ITKImageGrid ITKImageIntensity ITKOptimizers ITKOptimizersv4 ITKRegistrationCommon
   ITKIOImageBase ITKIOGDCM ITKGDCM ITKIOMeta ITKIONRRD ITKIONIFTI ITKIOPNG ITKIOTIFF ITKIOTransformBase ITKIOTransformInsightLegacy
   ITKTestKernel ITKGoogleTest ITKIOXML ITKZLIB)
