@@ -25,6 +25,7 @@
 #include "pbdrrView.h"
 #include "pbdrrVolumeLoader.h"
 
+#include "itkDRROutputConversion.h"
 #include "itkDRRRTKGeometryFileIO.h"
 #include "itkImageFileWriter.h"
 
@@ -600,12 +601,16 @@ AddToStack(VolumeType::Pointer &              stack,
     throw UsageError("--stack needs one detector size for every view; " +
                      DescribeView(plan.Views[k], k, plan.ViewsFrom) + " has another");
   }
-  const bool transmission = OutputMode(options) == "transmission";
-  float *    slice = stack->GetBufferPointer() + s * pixels;
+  // The library's conversion, as the views' own files use it (WriteOutputs()): a stack's slice is its view's file.
+  const itk::DRROutputConversion conversion(OutputMode(options) == "transmission"
+                                              ? itk::PointBasedDRREnums::OutputMode::Transmission
+                                              : itk::PointBasedDRREnums::OutputMode::LineIntegral,
+                                            0.0,
+                                            1.0);
+  float * slice = stack->GetBufferPointer() + s * pixels;
   for (size_t p = 0; p < pixels; ++p)
   {
-    const float value = image->GetBufferPointer()[p];
-    slice[p] = transmission ? std::exp(-value) : value;
+    slice[p] = static_cast<float>(conversion.Value(image->GetBufferPointer()[p]));
   }
 }
 
