@@ -6,7 +6,8 @@ packages=(build-essential cmake libinsighttoolkit5-dev libgdcm-dev libgtest-dev 
   clang libclang-rt-14-dev llvm # clang, libFuzzer and the sanitizers' runtimes, llvm-symbolizer: test/fuzz
   doxygen clang-format          # the docs target and its test, the formatting test (docs/, test/format)
   python3-numpy python3-matplotlib # the benchmarks' tables and plots (benchmark/*.py, /usr/bin/python3)
-  slurm-wlm munge parallel)     # batches on a Slurm cluster or GNU parallel, the test's own cluster (docs/slurm.md, test/slurm)
+  slurm-wlm munge parallel      # batches on a Slurm cluster or GNU parallel, the test's own cluster (docs/slurm.md, test/slurm)
+  util-linux)                   # prlimit: the full-disk test's file size limit (test/cli/FullDiskResume.cmake)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
