@@ -48,7 +48,7 @@ namespace itk
  *   volume's physical frame (moving the volume by its inverse). It must be linear; a scaling part is honoured
  *   (lengths are measured in the room).
  * - OutputMode: LineIntegral (default), Transmission exp(-L), Gray8 / Gray16 (window level / width in line-integral
- *   units; width 0 means the image's own range).
+ *   units; width 0: the automatic window, the image's 0.5th to 99.5th percentile).
  * - Labels (optional, docs/design.md section 13): a label image beside the volume (SetLabelImage()) selects which
  *   voxels attenuate (SetKeptLabels(), SetDroppedLabels()) and, with LabelChannels on, splits the projection into one
  *   line-integral image per label in one render: GetChannelOutput(), a VectorImage with a component per label
@@ -158,8 +158,8 @@ public:
   itkGetConstMacro(WindowLevel, double);
   ///@}
   ///@{
-  /** Width of the gray-level window, line-integral units. 0 (the default) or less: the window is the image's own
-   * minimum to maximum. */
+  /** Width of the gray-level window, line-integral units. 0 (the default) or less: the automatic window, from the
+   * image's 0.5th to its 99.5th percentile (DRROutputConversion::ComputeAutomaticWindow(), pbdrr's rule too). */
   itkSetMacro(WindowWidth, double);
   itkGetConstMacro(WindowWidth, double);
   ///@}

@@ -436,13 +436,13 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
   const bool gray = m_OutputMode == OutputModeEnum::Gray8 || m_OutputMode == OutputModeEnum::Gray16;
   double     low = m_WindowLevel - 0.5 * m_WindowWidth;
   double     width = m_WindowWidth;
-  if (gray && !(width > 0.0))
+  const auto notFiniteIntegral =
+    std::find_if(lineIntegral.begin(), lineIntegral.end(), [](double v) { return !std::isfinite(v); });
+  if (gray && !(width > 0.0) && notFiniteIntegral == lineIntegral.end())
   {
-    const auto range = std::minmax_element(lineIntegral.begin(), lineIntegral.end());
-    low = *range.first;
-    width = std::max(*range.second - *range.first, std::numeric_limits<double>::min());
+    DRROutputConversion::ComputeAutomaticWindow(lineIntegral.begin(), lineIntegral.end(), low, width);
   }
-  const DRROutputConversion conversion(m_OutputMode, low, width);
+  const DRROutputConversion conversion(m_OutputMode, low, width > 0.0 ? width : 1.0);
 
   // A value the output pixel type cannot hold (a finite line integral of 1e44 in float) would become infinite.
   const double largest = static_cast<double>(std::numeric_limits<OutputPixelType>::max());
@@ -451,9 +451,11 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WriteOutputs(const std::vector<do
     itkExceptionMacro("the output pixel type cannot hold the gray levels of " << m_OutputMode << " (up to "
                                                                               << conversion.GetMaximum() << ")");
   }
-  const auto notFinite = std::find_if(lineIntegral.begin(), lineIntegral.end(), [&](double v) {
-    return !std::isfinite(v) || !(std::abs(conversion.Value(v)) <= largest);
-  });
+  const auto notFinite = notFiniteIntegral != lineIntegral.end()
+                           ? notFiniteIntegral
+                           : std::find_if(lineIntegral.begin(), lineIntegral.end(), [&](double v) {
+                               return !(std::abs(conversion.Value(v)) <= largest);
+                             });
   if (notFinite != lineIntegral.end())
   {
     itkExceptionMacro("the projection has a non-finite value, or one the output pixel type cannot hold ("

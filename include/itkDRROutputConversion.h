@@ -22,6 +22,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <iterator>
+#include <vector>
 
 namespace itk
 {
@@ -46,6 +49,32 @@ public:
   DRROutputConversion(OutputModeEnum mode, double windowLow, double width)
     : m_Mode(mode), m_Low(windowLow), m_Width(width), m_Maximum(mode == OutputModeEnum::Gray8 ? 255.0 : 65535.0)
   {}
+
+  /** The automatic gray window of a line-integral image [first, last): from its 0.5th to its 99.5th percentile (the
+   * values at indices floor(q (n - 1)) of its sorted values), so that a few extreme pixels (metal, the edge of the
+   * volume) do not take the gray levels; width at least 1e-6 (a flat image). The one rule of the filters' Gray8 and
+   * Gray16 without a window (WindowWidth 0) and of pbdrr's gray outputs. */
+  template <typename TIterator>
+  static void
+  ComputeAutomaticWindow(TIterator first, TIterator last, double & windowLow, double & width)
+  {
+    std::vector<typename std::iterator_traits<TIterator>::value_type> values(first, last);
+    if (values.empty())
+    {
+      windowLow = 0.0;
+      width = 1.0;
+      return;
+    }
+    const auto at = [&values](double quantile) {
+      const auto k = values.begin() + static_cast<std::ptrdiff_t>(quantile * static_cast<double>(values.size() - 1));
+      std::nth_element(values.begin(), k, values.end());
+      return static_cast<double>(*k);
+    };
+    const double low = at(0.005);
+    const double high = at(0.995);
+    windowLow = low;
+    width = std::max(high - low, 1e-6);
+  }
 
   /** True for Gray8 and Gray16. */
   bool

@@ -23,7 +23,6 @@
 #include "itkDRRProjectionGeometryFileIO.h"
 #include "itkDRRProjectionMatrixFileIO.h"
 #include "itkImageFileWriter.h"
-#include "itkIntensityWindowingImageFilter.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -128,33 +127,33 @@ ChooseWindow(const Options & options, const ProjectionType * image, double & lev
     }
     return;
   }
-  std::vector<float> values(image->GetBufferPointer(),
-                            image->GetBufferPointer() + image->GetBufferedRegion().GetNumberOfPixels());
-  std::sort(values.begin(), values.end());
-  const double low = values[static_cast<size_t>(0.005 * (values.size() - 1))];
-  const double high = values[static_cast<size_t>(0.995 * (values.size() - 1))];
-  width = std::max(high - low, 1e-6);
+  double low = 0.0;
+  itk::DRROutputConversion::ComputeAutomaticWindow(
+    image->GetBufferPointer(), image->GetBufferPointer() + image->GetBufferedRegion().GetNumberOfPixels(), low, width);
   level = low + 0.5 * width;
 }
 
-/** The gray image of a window [low, low + width] of the line integrals, by ITK's IntensityWindowingImageFilter: the
- * window onto 0 .. the pixel type's largest level, rounded to the nearest level (the filter truncates: its window is
- * shifted down by half a level), attenuating bright. */
+/** The gray image of a window [low, low + width] of the line integrals, by the library's conversion
+ * (DRROutputConversion, as the filters' Gray8 and Gray16 make it): the window onto 0 .. the pixel type's largest
+ * level, rounded to the nearest level, attenuating bright. */
 template <typename TGray>
 void
 WriteGray(const ProjectionType * lineIntegral, double low, double width, const std::string & path)
 {
-  using WindowType = itk::IntensityWindowingImageFilter<ProjectionType, TGray>;
-  const auto levels = itk::NumericTraits<typename TGray::PixelType>::max();
-  const auto halfLevel = 0.5 * width / static_cast<double>(levels);
-  auto       window = WindowType::New();
-  window->SetInput(lineIntegral);
-  window->SetWindowMinimum(static_cast<float>(low - halfLevel));
-  window->SetWindowMaximum(static_cast<float>(low + width - halfLevel));
-  window->SetOutputMinimum(0);
-  window->SetOutputMaximum(levels);
-  window->Update();
-  WriteImageAtomically(window->GetOutput(), path);
+  using GrayPixelType = typename TGray::PixelType;
+  const itk::DRROutputConversion conversion(
+    sizeof(GrayPixelType) == 1 ? OutputModeEnum::Gray8 : OutputModeEnum::Gray16, low, width);
+  auto gray = TGray::New();
+  gray->CopyInformation(lineIntegral);
+  gray->SetRegions(lineIntegral->GetLargestPossibleRegion());
+  gray->Allocate();
+  const float *   in = lineIntegral->GetBufferPointer();
+  GrayPixelType * out = gray->GetBufferPointer();
+  for (size_t p = 0; p < gray->GetBufferedRegion().GetNumberOfPixels(); ++p)
+  {
+    out[p] = static_cast<GrayPixelType>(conversion.Value(in[p]));
+  }
+  WriteImageAtomically(gray.GetPointer(), path);
 }
 } // namespace
 

@@ -830,3 +830,43 @@ TEST(ViewModesTable, EveryDeclaredOptionHasACaseAndEveryModeItLacksRefusesIt)
   }
 }
 } // namespace
+
+// One window and conversion rule (issue 40, item 2): a PNG (gray8 and gray16, the automatic window and a given one)
+// holds the gray levels the library's conversion gives the same render, as pbdrr writes them into a float image with
+// --output-mode gray8 / gray16 (DRROutputConversion, its automatic window ComputeAutomaticWindow()), pixel for pixel.
+TEST(ViewModesTable, APngIsTheLibrarysGrayConversion)
+{
+  WriteInputs();
+  const std::string folder = Input("gray");
+  fs::create_directories(folder);
+  const std::vector<std::vector<std::string>> windows = { {}, { "--window", "6", "9" } };
+  for (const std::string mode : { "gray8", "gray16" })
+  {
+    for (const auto & window : windows)
+    {
+      std::vector<std::string> common = { Input("phantom.mha"), "--size", "160",    "120",
+                                          "--samples",          "1e6",    "--seed", "4",
+                                          "--output-mode",      mode,     "-q" };
+      common.insert(common.end(), window.begin(), window.end());
+      const std::string name = folder + "/" + mode + (window.empty() ? "_auto" : "_window");
+      auto              png = common;
+      png.insert(png.end(), { "-o", name + ".png" });
+      auto mha = common;
+      mha.insert(mha.end(), { "-o", name + ".mha" });
+      ASSERT_EQ(RunPbdrr(png, name + ".png.err").ExitCode, 0) << ShowArguments(png);
+      ASSERT_EQ(RunPbdrr(mha, name + ".mha.err").ExitCode, 0) << ShowArguments(mha);
+      const auto   picture = ReadView(name + ".png");
+      const auto   levels = ReadView(name + ".mha");
+      const size_t pixels = levels->GetBufferedRegion().GetNumberOfPixels();
+      ASSERT_EQ(picture->GetBufferedRegion().GetNumberOfPixels(), pixels);
+      size_t differ = 0, clipped = 0;
+      for (size_t p = 0; p < pixels; ++p)
+      {
+        differ += picture->GetBufferPointer()[p] != levels->GetBufferPointer()[p];
+        clipped += levels->GetBufferPointer()[p] == 0.0f;
+      }
+      EXPECT_EQ(differ, 0u) << name << ": the PNG is another picture than the library's conversion";
+      EXPECT_GT(clipped, 0u) << name << ": the window clips no pixel: the test shows nothing";
+    }
+  }
+}
