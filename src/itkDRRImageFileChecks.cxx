@@ -20,6 +20,7 @@
 #include "itk_zlib.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <sstream>
 #include <vector>
 
@@ -63,6 +64,16 @@ SizeOf(const std::map<std::string, uint64_t> & sizes, const std::string & name)
 {
   const auto found = sizes.find(name);
   return found == sizes.end() ? Unknown : found->second;
+}
+
+long long
+ParseInteger(const std::string & text, long long fallback)
+{
+  const std::string trimmed = Trim(text);
+  char *            end = nullptr;
+  errno = 0;
+  const long long value = std::strtoll(trimmed.c_str(), &end, 10);
+  return trimmed.empty() || errno == ERANGE || *end != '\0' ? fallback : value;
 }
 
 uint64_t

@@ -54,6 +54,9 @@ Bytes(uint64_t count);
 /** The file beside `header` named `name` (a relative name is relative to the header's folder). */
 std::string
 BesideHeader(const std::string & header, const std::string & name);
+/** The whole of text as a signed integer, or fallback if it is not one (or out of range): a header's value. */
+long long
+ParseInteger(const std::string & text, long long fallback);
 /** factor times the product of the whitespace-separated whole numbers of `numbers` (Multiply()'s overflow rule);
  * count: how many there were. A header's dimensions. */
 uint64_t

@@ -83,7 +83,8 @@ FindMetaImageDamage(const std::string & path, CheckedFile & file)
   uint64_t promised = ProductOf(fields["DimSize"], MetaElementBytes(fields["ElementType"]), count);
   if (fields.count("ElementNumberOfChannels"))
   {
-    promised = Multiply(promised, std::stoull("0" + fields["ElementNumberOfChannels"]));
+    const long long channels = ParseInteger(fields["ElementNumberOfChannels"], -1);
+    promised = channels < 1 ? Unknown : Multiply(promised, static_cast<uint64_t>(channels));
   }
   const std::string data = fields["ElementDataFile"];
   if (count == 0 || promised == Unknown || data.rfind("LIST", 0) == 0 || data.find('%') != std::string::npos)
@@ -101,7 +102,7 @@ FindMetaImageDamage(const std::string & path, CheckedFile & file)
   {
     return "cannot open its data file " + dataPath + ": " + dataFile.GetError();
   }
-  const long long headerSize = fields.count("HeaderSize") ? std::stoll("0" + fields["HeaderSize"]) : 0;
+  const long long headerSize = ParseInteger(fields["HeaderSize"], 0);
   if (headerSize < 0 && !compressed)
   {
     return CheckData(dataFile, 0, promised, false, dataPath); // the data are the file's last bytes
@@ -197,8 +198,8 @@ FindNrrdDamage(const std::string & path, CheckedFile & file)
   const uint64_t    promised = ProductOf(fields["sizes"], NrrdTypeBytes(fields["type"]), count);
   const std::string encoding = Lowercase(fields["encoding"]);
   const bool        compressed = encoding == "gzip" || encoding == "gz";
-  const long long   byteSkip = fields.count("byteskip") ? std::stoll("0" + fields["byteskip"]) : 0;
-  const long long   lineSkip = fields.count("lineskip") ? std::stoll("0" + fields["lineskip"]) : 0;
+  const long long   byteSkip = ParseInteger(fields["byteskip"], 0);
+  const long long   lineSkip = ParseInteger(fields["lineskip"], 0);
   if (count == 0 || promised == Unknown || !(compressed || encoding == "raw") || lineSkip != 0 ||
       data.rfind("LIST", 0) == 0 || data.find(' ') != std::string::npos)
   {

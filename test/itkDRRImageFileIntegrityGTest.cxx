@@ -230,6 +230,35 @@ TEST(DRRImageFileIntegrity, AHeaderThatPromisesMoreThanItsDataIsFound)
     << itk::DRRImageFileIntegrity::FindDamage(nifti);
 }
 
+// Header values that are not numbers an int64 holds are not sized (the reader words them), never an exception of
+// another kind; a negative HeaderSize (the data are the data file's last bytes) is read as negative.
+TEST(DRRImageFileIntegrity, HeaderNumbersOutOfRangeAreNotThrown)
+{
+  const auto        volume = MakeVolume();
+  const std::string header = TemporaryFile("numbers.mhd");
+  itk::WriteImage(volume, header);
+  const std::string original = ReadBytes(header);
+  const auto        withLine = [&](const std::string & line) {
+    std::string bytes = original;
+    bytes.insert(bytes.find("ElementDataFile"), line + "\n");
+    WriteBytes(header, bytes);
+  };
+  withLine("ElementNumberOfChannels = 99999999999999999999999");
+  EXPECT_NO_THROW(EXPECT_EQ(itk::DRRImageFileIntegrity::FindDamage(header), ""));
+  withLine("HeaderSize = 99999999999999999999999");
+  EXPECT_NO_THROW(itk::DRRImageFileIntegrity::FindDamage(header));
+  // HeaderSize -1 with the data file cut by one byte: found (it read as 0 before, and ought to be found either way).
+  withLine("HeaderSize = -1");
+  const std::string data = TemporaryFile("numbers.raw");
+  const std::string pixels = ReadBytes(data);
+  EXPECT_EQ(itk::DRRImageFileIntegrity::FindDamage(header), "");
+  WriteBytes(data, pixels.substr(1));
+  EXPECT_NE(itk::DRRImageFileIntegrity::FindDamage(header).find("truncated"), std::string::npos);
+  // ... and with a byte put before the data: whole, the data being the last bytes.
+  WriteBytes(data, "x" + pixels);
+  EXPECT_EQ(itk::DRRImageFileIntegrity::FindDamage(header), "");
+}
+
 TEST(DRRImageFileIntegrity, ACorruptCompressedStreamIsFound)
 {
   const auto volume = MakeVolume();
