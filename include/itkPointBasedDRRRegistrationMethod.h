@@ -25,6 +25,7 @@
 #include "itkFixedArray.h"
 #include "itkImage.h"
 #include "itkObjectToObjectOptimizerBase.h"
+#include "itkDRRDeadlineMetric.h"
 #include "itkPointBasedDRRMetricv4.h"
 #include "itkProcessObject.h"
 
@@ -331,10 +332,7 @@ protected:
 
 private:
   /** The metric as the optimizer sees it: counts the evaluations, keeps the best pose, and stops at the deadline. */
-  class DeadlineMetric;
-  /** Thrown by DeadlineMetric when the time limit has passed: the best pose so far is the answer. */
-  struct TimeIsUp
-  {};
+  using DeadlineMetric = DRRDeadlineMetric;
 
   /** The pose (mm, degrees) as Euler3DTransform's parameters (radians, mm) and back. */
   static TransformType::ParametersType
