@@ -3,13 +3,7 @@
 #   cmake -DBUILD_DIR=... -DITK_DIR=... -DPREFIX=... -DDOWNSTREAM_SOURCE=... -DDOWNSTREAM_BINARY=... -P InstallAndBuildDownstream.cmake
 cmake_minimum_required(VERSION 3.16)
 
-function(run step)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  message(STATUS "${step}:\n${out}${err}")
-  if(NOT code STREQUAL "0")
-    message(FATAL_ERROR "${step} failed (${code})")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/RunStep.cmake)
 
 file(REMOVE_RECURSE "${PREFIX}" "${DOWNSTREAM_BINARY}")
 run("install" ${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${PREFIX}")
