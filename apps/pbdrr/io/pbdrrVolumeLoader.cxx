@@ -120,9 +120,12 @@ LoadVolumeFile(const std::string & input)
   // its verdict, taken after the read or its failure, refuses a volume the reader filled in silently.
   std::future<std::string> damage =
     std::async(std::launch::async, [input] { return itk::DRRImageFileIntegrity::FindDamage(input); });
-  bool       verdictTaken = false;
-  const auto refuseDamaged = [&] {
-    verdictTaken = true;
+  // Its verdict is taken once: the future is no longer valid() after get().
+  const auto refuseDamaged = [&damage, &input] {
+    if (!damage.valid())
+    {
+      return;
+    }
     const std::string found = damage.get();
     if (!found.empty())
     {
@@ -154,16 +157,10 @@ LoadVolumeFile(const std::string & input)
   }
   catch (...)
   {
-    if (!verdictTaken)
-    {
-      refuseDamaged();
-    }
+    refuseDamaged();
     throw;
   }
-  if (!verdictTaken)
-  {
-    refuseDamaged();
-  }
+  refuseDamaged();
   loaded.Description = "file " + input;
   return loaded;
 }
