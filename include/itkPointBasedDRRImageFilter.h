@@ -21,11 +21,11 @@
 #include "itkDRRCompatibility.h"
 #include "itkDRRImageFilterBase.h"
 #include "itkDRRControlVariate.h"
-#include "itkDRRPassCombination.h"
+#include "itkDRRPointRenderSession.h"
 #include "itkDRRPointSampler.h"
 #include "itkDRRPointRenderer.h"
-#include "itkDRRStratifiedSampler.h"
-#include "itkDRRStreamedPointRender.h"
+
+#include <memory>
 
 namespace itk
 {
@@ -90,35 +90,23 @@ public:
 
   ///@{
   /** Number of points drawn (N, at least 1; 64-bit). Default DRRPointRenderer::DefaultNumberOfSamples (10^7). */
-  void
-  SetNumberOfSamples(uint64_t samples)
-  {
-    this->SetSamplingSetting(m_NumberOfSamples, samples);
-  }
+  itkSetMacro(NumberOfSamples, uint64_t);
   itkGetConstMacro(NumberOfSamples, uint64_t);
   ///@}
 
   ///@{
   /** Seed of the counter-based random streams. Default 0. */
-  void
-  SetSeed(uint64_t seed)
-  {
-    this->SetSamplingSetting(m_Seed, seed);
-  }
+  itkSetMacro(Seed, uint64_t);
   itkGetConstMacro(Seed, uint64_t);
   ///@}
 
   /** The smallest F `auto` picks for a streamed render: its coarse volume is held whole (4 / F^3 bytes per voxel, 1/32
    * of 16-bit CT at F = 4). */
-  static constexpr unsigned int MinimumStreamedAutomaticFactor = 4;
+  static constexpr unsigned int MinimumStreamedAutomaticFactor = DRRPointRenderSession::MinimumStreamedAutomaticFactor;
 
   ///@{
   /** Voxel model: Box (default, reference Siddon) or Tent (trilinear). */
-  void
-  SetReconstructionKernel(KernelEnum kernel)
-  {
-    this->SetSamplingSetting(m_ReconstructionKernel, kernel);
-  }
+  itkSetEnumMacro(ReconstructionKernel, KernelEnum);
   itkGetConstMacro(ReconstructionKernel, KernelEnum);
   ///@}
 
@@ -144,7 +132,12 @@ public:
   void
   SetNumberOfStrata(unsigned int strata)
   {
-    this->SetSamplingSetting(m_NumberOfStrata, std::min(strata, 256u));
+    strata = std::min(strata, 256u);
+    if (m_NumberOfStrata != strata)
+    {
+      m_NumberOfStrata = strata;
+      this->Modified();
+    }
   }
   itkGetConstMacro(NumberOfStrata, unsigned int);
   ///@}
@@ -153,11 +146,7 @@ public:
   /** The sampler policy. Default: DRRSamplerFactory::DefaultName, DRRStratifiedSampler (systematic along a Morton
    * curve of the mass, culled to the view: the least error for the time, docs/performance.md).
    * \sa DRRSamplerFactory */
-  void
-  SetSampler(SamplerType * sampler)
-  {
-    this->SetSamplingSetting(m_Sampler, typename SamplerType::Pointer(sampler));
-  }
+  itkSetObjectMacro(Sampler, SamplerType);
   itkGetModifiableObjectMacro(Sampler, SamplerType);
   ///@}
 
@@ -189,7 +178,7 @@ public:
   /** The largest residual mass M_r / M that AutomaticControlVariateFactor accepts: above it the filter renders without
    * a control variate. At 0.5 the points' error (which scales by about M_r / M) at most halves, which the coarse
    * image's rays do not pay for; on CT M_r / M is 0.07 to 0.2, on a one-slice volume above 1. */
-  static constexpr double MaximumAutomaticResidualFraction = 0.5;
+  static constexpr double MaximumAutomaticResidualFraction = DRRPointRenderSession::MaximumAutomaticResidualFraction;
 
   ///@{
   /** Control variate (DESIGN 10, DRRControlVariate): 0 (default) off; F (2 to DRRControlVariate::MaximumFactor) splits
@@ -222,18 +211,22 @@ public:
   const DRRControlVariate *
   GetControlVariate() const
   {
-    return m_ControlVariateFactor > 0 ? m_ControlVariate.GetPointer() : nullptr;
+    return m_ControlVariateFactor > 0 ? m_Session->GetControlVariate() : nullptr;
   }
 
   /** The kept points (null unless ReusePoints and after an update); see DRRPointCloud::GetBytesPerPoint(). */
   const DRRPointCloud *
   GetPointCloud() const
   {
-    return m_PointCloud.GetPointer();
+    return m_Session->GetPointCloud();
   }
 
   /** Number of times points were drawn into the kept cloud (each draw after a change that invalidates it). */
-  itkGetConstMacro(NumberOfPointCloudDraws, unsigned int);
+  unsigned int
+  GetNumberOfPointCloudDraws() const
+  {
+    return m_Session->GetNumberOfPointCloudDraws();
+  }
 
   /** Per-pixel standard error of the estimate, in the units of the output: for line integrals the estimator's own
    * standard error; for transmission and gray levels carried through the output mode by the delta method. */
@@ -242,6 +235,12 @@ public:
   {
     return this->GetOutput(1);
   }
+
+  /** Throws if the settings break a rule of the point render: no sampler, no points, one stratum, or a control variate
+   * with a kernel or weighting it cannot take or an F out of range (`auto` resolves to off there). Update() checks
+   * them first; public, so that a program asks a configured filter before it reads the volume. */
+  void
+  VerifySettings() const;
 
   /** Builds the attenuation volume and the sampler's tables now, if the input, transfer function or sampler changed
    * since they were built (Update() does it otherwise): preprocessing once, before many renders. */
@@ -267,17 +266,21 @@ public:
   uint64_t
   GetTotalNumberOfSamples() const
   {
-    return m_Passes.GetNumberOfSamples();
+    return m_Session->GetPasses().GetNumberOfSamples();
   }
 
   /** Attenuation mass M of the volume in the room (sum of mu times voxel volume), mm^2, of the last render. */
-  itkGetConstMacro(TotalMass, double);
+  double
+  GetTotalMass() const
+  {
+    return m_Session->GetTotalMass();
+  }
   /** Number of points that landed on the detector (their nearest pixel inside it), in the last Update() and the
    * refinements since. */
   uint64_t
   GetPointsOnDetector() const
   {
-    return m_Passes.GetPointsOnDetector();
+    return m_Session->GetPasses().GetPointsOnDetector();
   }
 
   /** Includes the sampler's, as well as the geometry's, transform's and transfer function's. */
@@ -300,80 +303,15 @@ protected:
    * the outputs: the only place they are written. */
   void
   GenerateData() override;
-
-  /** Renders one pass of samples points with the seed of pass number `pass`. */
-  DRRPointRenderer::Result
-  RenderPass(uint64_t samples, unsigned int pass);
-
-  /** Renders the kept points for the current pose with the settings of pass 0, drawing them first if they are missing
-   * or stale. */
-  DRRPointRenderer::Result
-  RenderKeptPoints(DRRPointRenderer::Settings settings);
-
-  /** The settings' rules (at least one sample, strata, the control variate's kernel, weighting and factor), in one
-   * place: before every render, at Update() (ITK calls VerifyPreconditions() before GenerateData()), PrepareSampling()
-   * and Refine() (with its own number of samples). Throws an ExceptionObject naming the rule. */
-  void
-  VerifySettings(uint64_t samples) const;
-
-  /** Settings of pass number `pass` (its seed derived from Seed and the pass); VerifySettings() has passed. */
-  DRRPointRenderer::Settings
-  MakeSettings(uint64_t samples, unsigned int pass) const;
-
-  /** Makes the control variate for the current attenuation volume and factor, unless the one made is still
-   * current (neither the volume nor the factor changed since it was made); frees it for no control variate. */
-  void
-  PrepareControlVariate();
-  /** The volume the sampler draws from: the attenuation volume, or the control variate's residual. */
-  const DRRAttenuationVolume &
-  GetSamplingVolume() const;
-  /** Initializes the sampler on volume unless its tables are newer than the volume, the sampler's settings and the
-   * last SetSampler(). */
-  void
-  InitializeSampler(const DRRAttenuationVolume & volume);
-
-  /** F of the next render: ControlVariateFactor, or the choice for the view (AutomaticControlVariateFactor). */
-  unsigned int
-  ResolveControlVariateFactor();
-
-  /** Adds the control variate's coarse image for the current pose to a render of the residual (no-op without one). */
-  void
-  AddControlVariateImage(const DRRPointRenderer::Settings & settings, DRRPointRenderer::Result & result);
-  /** Adds the coarse image of a control variate (the filter's, or a streamed render's) for projection, with the
-   * settings' splat and seed, the filter's rays per side and one replicate unless a standard error is computed. */
-  void
-  AddCoarseImage(const DRRControlVariate &          controlVariate,
-                 const DRRPointProjection &         projection,
-                 const DRRPointRenderer::Settings & settings,
-                 DRRPointRenderer::Result &         result);
-  /** The base's checks (the input is set), then VerifySettings() with the number of samples of the coming pass. */
+  /** The settings' rules (VerifySettings()), beside the base's. */
   void
   VerifyPreconditions() const override;
-  /** The base's reasons, and the point-based filter's: a sampler other than the stratified one (its tables are the
-   * whole volume's). */
+  /** Streaming draws along the stratified sampler's curve: another sampler cannot stream. */
   std::string
   WhyNotStreamable() const override;
-
-  /** Streamed slabs start at whole brick planes (8, the stratified sampler's bricks) and whole coarse blocks of the
-   * control variate (F planes). */
+  /** Whole brick planes, and whole coarse blocks of the streamed control variate: lcm(8, F). */
   uint64_t
   GetSlabAlignment() const override;
-  /** One pass of a render streamed by slabs (docs/design.md section 16): a first pass over the slabs gathers the
-   * masses along the sampler's curve (and the coarse volume), a second draws each slab's window of the samples into
-   * the whole render's sums, or, keepPoints, into kept points of the whole volume (m_PointCloud, with the coarse volume
-   * m_StreamedControlVariate; the result is then empty). The same image, bit for bit, as the render of the whole
-   * volume. */
-  DRRPointRenderer::Result
-  RenderStreamed(const DRRPointRenderer::Settings & settings, bool keepPoints);
-  /** Renders the kept points for the current pose, drawing them first slab by slab (RenderStreamed() keeping the
-   * points of the whole volume, and the control variate's coarse volume) if they are missing or stale: each slab is
-   * read for the first view only, every later pose re-projects the points. */
-  DRRPointRenderer::Result
-  RenderStreamedKeptPoints(const DRRPointRenderer::Settings & settings);
-  /** True if kept points drawn slab by slab are current: nothing they are made of (sampling settings, sampler,
-   * transfer function, anything upstream of the input) is newer. */
-  bool
-  StreamedPointCloudIsCurrent() const;
   /** A streamed update of current kept points reads no slab: it re-projects them. */
   bool
   ReadsSlabsAtNextUpdate() const override;
@@ -381,19 +319,22 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  /** Sets a setting the drawn points depend on: marks the filter, and the sampling settings, modified if new. */
-  template <typename TValue>
+  /** The session's request: the settings. */
+  DRRPointRenderSession::Request
+  MakeRequest() const;
+  /** The whole volume's slabs, as the session reads them. */
+  DRRPointRenderSession::Slabs
+  MakeSlabs();
+  /** The newest modified time of what the slabs are made of: the input's pipeline and the transfer function. */
+  ModifiedTimeType
+  GetSlabsMadeOfTime() const;
+  /** Warns if samples points are too few for the sampler's strata. */
   void
-  SetSamplingSetting(TValue & member, const TValue & value)
-  {
-    if (member != value)
-    {
-      member = value;
-      m_SamplingSettingsTime.Modified();
-      this->Modified();
-    }
-  }
-  // The settings.
+  WarnIfTooFewPerStratum(uint64_t samples) const;
+  /** Warns of a render whose points came near the source; makes one channel the image itself. */
+  void
+  CompleteResult(DRRPointRenderer::Result & result) const;
+
   uint64_t                      m_NumberOfSamples{ DRRPointRenderer::DefaultNumberOfSamples };
   uint64_t                      m_Seed{ 0 };
   unsigned int                  m_NumberOfStrata{ 0 };
@@ -407,27 +348,8 @@ private:
   bool                          m_ReusePoints{ false };
   uint64_t                      m_ExpectedNumberOfPoses{ 1 };
 
-  // What the renders are made of, each stale once something it was made from is newer: the attenuation volume ->
-  // the control variate -> the sampler's tables -> the kept points.
-  TimeStamp                          m_SamplingSettingsTime; // the last change of a setting the points depend on
-  DRRAttenuationVolume::ConstPointer m_PreparedVolume;       // the attenuation volume the control variate is of
-  DRRControlVariate::Pointer         m_ControlVariate;       // null: none (off, declined or not made yet)
-  TimeStamp                          m_ControlVariateTime;   // when it was made, or declined
-  unsigned int                       m_PreparedFactor{ 0 };  // its F, or F declined (`auto` found M_r / M too large)
-  TimeStamp                          m_SamplerTime;          // when the sampler was initialized
-  DRRPointCloud::Pointer             m_PointCloud;
-  DRRControlVariate::Pointer         m_StreamedControlVariate;      // the coarse volume of kept points drawn streamed
-  bool                               m_PointCloudStreamed{ false }; // the kept points were drawn slab by slab
-  TimeStamp                          m_PointCloudTime;              // when the kept points were drawn
-  unsigned int                       m_NumberOfPointCloudDraws{ 0 };
-  // The renders of the kept points reuse their sums from pose to pose.
-  std::shared_ptr<DRRPointRenderer::Workspace> m_PointCloudWorkspace;
-
-  // The outputs: the passes of the last render and the refinements since, and what a Refine() asks for.
-  DRRPassCombination m_Passes;
-  double             m_TotalMass{ 0.0 };
-  TimeStamp          m_RenderTime;             // when the outputs were last written
-  uint64_t           m_RefinementSamples{ 0 }; // the points of the pass Refine() asked for (0: a render)
+  // What the renders are made of (the split, the sampler's tables, the kept points, the passes), and the renders.
+  std::unique_ptr<DRRPointRenderSession> m_Session;
 };
 } // namespace itk
 

@@ -27,6 +27,7 @@
 
 #include "gtest/gtest.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
@@ -365,6 +366,40 @@ TEST(DRRControlVariate, RefusesTheTentKernelThePaperCountAndFactorOne)
   filter->SetControlVariateFactor(FilterType::AutomaticControlVariateFactor);
   EXPECT_NO_THROW(filter->Update());
   EXPECT_GE(filter->GetControlVariate()->GetFactor(), 2u);
+}
+
+// `auto` resolves to off, in the filter, where a control variate cannot apply (the tent kernel, the paper's count): the
+// image is the render without one, bit for bit, whole and streamed; a chosen F there is refused (the test above).
+TEST(DRRControlVariate, AutomaticFactorResolvesToOffWhereTheControlVariateCannotApply)
+{
+  auto volume = MakeMuVolume({ { 16, 16, 16 } }, 0.0f);
+  for (itk::SizeValueType v = 0; v < 16 * 16 * 16; ++v)
+  {
+    volume->GetBufferPointer()[v] = 0.02f + 0.001f * static_cast<float>((v * 2654435761u) % 7);
+  }
+  const auto geometry = AlignedParallelGeometry(16, 16, Pt(7.5, 7.5, 7.5));
+  using KernelEnum = itk::PointBasedDRREnums::ReconstructionKernel;
+  using WeightingEnum = itk::PointBasedDRREnums::PointWeighting;
+  for (const bool tent : { true, false })
+  {
+    for (const unsigned int slabs : { 1u, 2u })
+    {
+      const auto render = [&](unsigned int factor) {
+        auto filter = MakeFilter(volume, geometry, factor);
+        filter->SetReconstructionKernel(tent ? KernelEnum::Tent : KernelEnum::Box);
+        filter->SetPointWeighting(tent ? WeightingEnum::Unbiased : WeightingEnum::PaperCount);
+        filter->SetNumberOfStreamDivisions(slabs);
+        filter->Update();
+        EXPECT_EQ(filter->GetControlVariate(), nullptr);
+        EXPECT_EQ(filter->ResolveStreamedControlVariateFactor(), 0u);
+        return std::vector<float>(filter->GetOutput()->GetBufferPointer(),
+                                  filter->GetOutput()->GetBufferPointer() + 16 * 16);
+      };
+      const std::vector<float> automatic = render(FilterType::AutomaticControlVariateFactor);
+      EXPECT_EQ(automatic, render(0)) << (tent ? "tent" : "paper count") << ", " << slabs << " slab(s)";
+      EXPECT_GT(*std::max_element(automatic.begin(), automatic.end()), 0.0f);
+    }
+  }
 }
 
 // `auto` never keeps a split whose residual holds more than MaximumAutomaticResidualFraction of the mass: a one-slice
