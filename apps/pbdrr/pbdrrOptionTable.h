@@ -221,33 +221,28 @@ ReadOptionWords(const std::vector<std::string> &                                
                 const std::function<void(const OptionText &, const std::vector<std::string> &)> & apply,
                 const std::function<void(const std::string &)> &                                  operand);
 
-/** Parses arguments into options by the table: each option's Apply, in the order given; returns the other words (the
- * operands) and adds the long names of the options given to given. */
+/** Parses arguments into options by the table: each option's Apply, in the order given, and operand(word) for each
+ * other word; adds the long names of the options given to given. */
 template <typename TOptions, typename TGroup>
-std::vector<std::string>
+void
 ParseOptionTable(const std::vector<std::string> &                           arguments,
                  const std::vector<OptionDeclarationOf<TOptions, TGroup>> & table,
                  const std::string &                                        unknownTail,
                  TOptions &                                                 options,
-                 std::vector<std::string> &                                 given)
+                 std::vector<std::string> &                                 given,
+                 const std::function<void(const std::string &)> &           operand)
 {
   std::vector<const OptionText *> texts;
   for (const auto & declaration : table)
   {
     texts.push_back(&declaration);
   }
-  std::vector<std::string> operands;
-  ReadOptionWords(
-    arguments,
-    texts,
-    unknownTail,
-    [&](const OptionText & option, const std::vector<std::string> & values) {
-      // option is one of table's declarations (texts points into table).
-      static_cast<const OptionDeclarationOf<TOptions, TGroup> &>(option).Apply(options, values);
-      given.push_back(option.Name);
-    },
-    [&](const std::string & word) { operands.push_back(word); });
-  return operands;
+  const auto apply = [&](const OptionText & option, const std::vector<std::string> & values) {
+    // option is one of table's declarations (texts points into table).
+    static_cast<const OptionDeclarationOf<TOptions, TGroup> &>(option).Apply(options, values);
+    given.push_back(option.Name);
+  };
+  ReadOptionWords(arguments, texts, unknownTail, apply, operand);
 }
 
 /** Where a help's columns are: its options' forms start at Indent, their help at Column (a nested option's 2 further

@@ -156,9 +156,12 @@ CheckOptionsApply(const Options & options, unsigned mode)
 Options
 ParseCommandLine(const std::vector<std::string> & arguments)
 {
-  Options                        options;
-  const std::vector<std::string> positional =
-    ParseOptionTable(arguments, OptionDeclarations(), " (see pbdrr --help)", options, options.given);
+  Options                  options;
+  std::vector<std::string> positional;
+  ParseOptionTable(
+    arguments, OptionDeclarations(), " (see pbdrr --help)", options, options.given, [&](const std::string & word) {
+      positional.push_back(word);
+    });
   if (options.help || options.version || (!options.listSeries.empty() && positional.empty()))
   {
     return options;
