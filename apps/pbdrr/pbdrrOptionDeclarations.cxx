@@ -258,7 +258,8 @@ OptionDeclarations()
       .Help("read the CT in SLABS slabs of z planes, one at a time, for a CT larger than\n"
             "memory: the same image (a MetaImage, NRRD or uncompressed NIfTI file; the\n"
             "stratified sampler or --exact siddon)"),
-    Option("--memory-budget").In(Rendering).Takes("SIZE").Default("half the memory").Sets(&Options::memoryBudget, ParseByteSize)
+    Option("--memory-budget").In(Rendering).Takes("SIZE").Default("half the memory")
+      .Sets(&Options::memoryBudget, ParseByteSize)
       .Only(one | batch, "--memory-budget applies to one volume (a manifest's volumes are read whole)")
       .Help("stream a CT whose render would hold more than SIZE (e.g. 3G; 0: never)\n"
             "in as many slabs as keep it within (default: {default})"),

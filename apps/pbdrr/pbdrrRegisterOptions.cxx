@@ -335,12 +335,14 @@ RegisterOptionDeclarations(const MethodDefaults & method = {})
     Option("--start-radius").In(Registration).Takes("R")
       .Does([](O & o, const Values & v) { o.settings.StartRadius = StartRadius(v[0]); })
       .Help("the spread of those starts about --start: up to R mm and R degrees per axis (default 10)"),
-    Option("--exact").In(Registration).Takes("siddon").Does([](O & o, const Values & v) { o.settings.Exact = Siddon(v[0]); })
+    Option("--exact").In(Registration).Takes("siddon")
+      .Does([](O & o, const Values & v) { o.settings.Exact = Siddon(v[0]); })
       .Help("the exact Siddon projector instead of points (no noise, no derivative: powell)"),
     Option("--seed").In(Registration).Takes("S")
       .Does([](O & o, const Values & v) { o.settings.Seed = WholeIn(v[0], "--seed", 0, 0x1p53, "from 0 to 2^53"); })
       .Help("the points' seed (default 0): the same seed, the same pose on any thread count"),
-    Option("--max-seconds").In(Registration).Takes("T").Does([](O & o, const Values & v) { o.settings.MaxSeconds = MaxSeconds(v[0]); })
+    Option("--max-seconds").In(Registration).Takes("T")
+      .Does([](O & o, const Values & v) { o.settings.MaxSeconds = MaxSeconds(v[0]); })
       .Help("stop after T seconds with the best pose so far (says so)"),
     Option("--series").In(Registration).Takes("UID").Sets(&O::seriesUID).Help("the DICOM series of the CT"),
     Option("--threads").In(Registration).Takes("T")
