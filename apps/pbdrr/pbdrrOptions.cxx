@@ -22,10 +22,8 @@
 #include "itkDRRSamplerFactory.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <functional>
-#include <sstream>
 #include <sstream>
 #include <map>
 
@@ -121,67 +119,6 @@ ParseSampleCount(const std::string & text)
   return static_cast<uint64_t>(value);
 }
 
-namespace
-{
-/** The separators of a list given as one word: commas, and for --size also an x between the two numbers. */
-std::string
-ListSeparators(const std::string & flag)
-{
-  return flag == "--size" ? ",x" : ",";
-}
-
-/** Whether the word after a flag of several values holds them all (`--size 256,256`, `--size 256x256`). */
-bool
-IsList(const std::string & word, const std::string & flag)
-{
-  return !word.empty() && std::isdigit(static_cast<unsigned char>(word.front())) != 0 &&
-         word.find_first_of(ListSeparators(flag)) != std::string::npos;
-}
-
-/** The values of a flag given as one word: the word itself for one value, else split at the list separators. */
-std::vector<std::string>
-SplitList(const std::string & word, size_t count, const std::string & flag)
-{
-  if (count == 1)
-  {
-    return { word };
-  }
-  std::vector<std::string> values;
-  size_t                   begin = 0;
-  for (size_t end; (end = word.find_first_of(ListSeparators(flag), begin)) != std::string::npos; begin = end + 1)
-  {
-    values.push_back(word.substr(begin, end - begin));
-  }
-  values.push_back(word.substr(begin));
-  if (values.size() != count)
-  {
-    throw UsageError(flag + " expects " + std::to_string(count) + " value(s), got '" + word + "'");
-  }
-  return values;
-}
-
-/** `-vq` as `-v -q`: the single-letter flags of a word, if every one of them is a flag without a value; else none. */
-std::vector<std::string>
-CombinedShortFlags(const std::string & word, const std::function<bool(const std::string &)> & takesNoValue)
-{
-  std::vector<std::string> singles;
-  if (word.size() < 3 || word[0] != '-' || word[1] == '-')
-  {
-    return singles;
-  }
-  for (size_t c = 1; c < word.size(); ++c)
-  {
-    const std::string single{ '-', word[c] };
-    if (!takesNoValue(single))
-    {
-      return {};
-    }
-    singles.push_back(single);
-  }
-  return singles;
-}
-} // namespace
-
 bool
 IsBatch(const Options & options)
 {
@@ -219,72 +156,12 @@ CheckOptionsApply(const Options & options, unsigned mode)
 Options
 ParseCommandLine(const std::vector<std::string> & arguments)
 {
-  Options options;
-  // Every option by its name and its short form.
-  std::map<std::string, const OptionDeclaration *> flags;
-  for (const OptionDeclaration & declaration : OptionDeclarations())
-  {
-    flags[declaration.Name] = &declaration;
-    if (!declaration.Short.empty())
-    {
-      flags[declaration.Short] = &declaration;
-    }
-  }
-
+  Options                  options;
   std::vector<std::string> positional;
-  for (size_t i = 0; i < arguments.size(); ++i)
-  {
-    const std::string & argument = arguments[i];
-    if (argument.size() > 1 && argument[0] == '-')
-    {
-      // The forms people type: --name=value (lists as 1,2 or, for --size, 256x256), a list as one word, -vq.
-      const size_t      equals = argument.rfind("--", 0) == 0 ? argument.find('=') : std::string::npos;
-      const std::string name = argument.substr(0, equals);
-      const auto        flag = flags.find(name);
-      if (flag == flags.end() || (equals != std::string::npos && flag->second->Values == 0))
-      {
-        const std::vector<std::string> combined = CombinedShortFlags(argument, [&](const std::string & single) {
-          const auto found = flags.find(single);
-          return found != flags.end() && found->second->Values == 0;
-        });
-        if (combined.empty())
-        {
-          throw UsageError("unknown option '" + argument + "' (see pbdrr --help)");
-        }
-        for (const std::string & single : combined)
-        {
-          flags.at(single)->Apply(options, {});
-          options.given.push_back(flags.at(single)->Name);
-        }
-        continue;
-      }
-      const size_t             count = flag->second->Values;
-      std::vector<std::string> values;
-      if (equals != std::string::npos)
-      {
-        values = SplitList(argument.substr(equals + 1), count, name);
-      }
-      else if (count > 1 && i + 1 < arguments.size() && IsList(arguments[i + 1], name))
-      {
-        values = SplitList(arguments[++i], count, name);
-      }
-      else
-      {
-        if (i + count >= arguments.size() && count > 0)
-        {
-          throw UsageError(argument + " expects " + std::to_string(count) + " value(s)");
-        }
-        values.assign(arguments.begin() + i + 1, arguments.begin() + i + 1 + count);
-        i += count;
-      }
-      flag->second->Apply(options, values);
-      options.given.push_back(flag->second->Name);
-    }
-    else
-    {
-      positional.push_back(argument);
-    }
-  }
+  ParseOptionTable(
+    arguments, OptionDeclarations(), " (see pbdrr --help)", options, options.given, [&](const std::string & word) {
+      positional.push_back(word);
+    });
   if (options.help || options.version || (!options.listSeries.empty() && positional.empty()))
   {
     return options;
@@ -367,53 +244,6 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   return options;
 }
 
-namespace
-{
-/** The help of one option: its form and placeholder in a column of 23 characters, then its help, its lines as declared
- * (a form too wide for the column puts the help on the next line), then the list of its values. */
-std::string
-OptionHelp(const OptionDeclaration & declaration)
-{
-  // A switch shows its short form beside its name (--quiet, -q); an option with values its short form, as typed (-o).
-  std::string form = declaration.Short.empty() ? declaration.Name
-                     : declaration.Values > 0  ? declaration.Short
-                                               : declaration.Name + ", " + declaration.Short;
-  if (!declaration.Placeholder.empty())
-  {
-    form += " " + declaration.Placeholder;
-  }
-  std::string  help = declaration.Help;
-  const size_t at = help.find("{default}");
-  if (at != std::string::npos)
-  {
-    help.replace(at, std::string("{default}").size(), declaration.Default);
-  }
-  constexpr size_t   column = 23;
-  const std::string  indent(column + 2, ' ');
-  std::string        text = "  " + form;
-  std::istringstream lines(help);
-  std::string        line;
-  bool               first = true;
-  while (std::getline(lines, line))
-  {
-    if (first && form.size() + 2 <= column)
-    {
-      text += std::string(column - form.size(), ' ') + line + "\n";
-    }
-    else
-    {
-      text += (first ? "\n" : "") + indent + line + "\n";
-    }
-    first = false;
-  }
-  if (first)
-  {
-    text += "\n";
-  }
-  return text + declaration.Choices;
-}
-} // namespace
-
 std::string
 HelpText()
 {
@@ -445,14 +275,7 @@ OUTPUT  the extension decides: .mha .nrrd .nii .nii.gz .tif hold float values (l
 )";
   for (const auto & group : groups)
   {
-    text += "\n" + group.second;
-    for (const OptionDeclaration & declaration : OptionDeclarations())
-    {
-      if (declaration.Group == group.first)
-      {
-        text += OptionHelp(declaration);
-      }
-    }
+    text += "\n" + group.second + GroupHelp(OptionDeclarations(), group.first);
   }
   return text + R"(Option forms: --size 256 256 or --size=256,256 or --size 256x256; --samples=1e7; -vq for -v -q.
 

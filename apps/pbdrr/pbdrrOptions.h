@@ -22,6 +22,7 @@
 #include "itkDRRSamplerFactory.h"
 #include "itkDRRPointRenderer.h"
 #include "itkPointBasedDRREnums.h"
+#include "pbdrrOptionTable.h"
 
 #include <array>
 #include <functional>
@@ -33,13 +34,6 @@
 
 namespace pbdrr
 {
-/** A command-line error: printed as "pbdrr: error: <what>", exit code 2 (usage) or 1 (run time). */
-class UsageError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
-
 /** Everything the command line says. Geometry fields left empty keep the geometry file's value or the default. */
 struct Options
 {
@@ -129,19 +123,6 @@ struct Options
   std::vector<std::string> given;
 };
 
-/** The modes of pbdrr an option applies to (OptionDeclaration::Modes): a bit each. */
-namespace OptionModes
-{
-/** pbdrr INPUT -o OUTPUT: one view. */
-constexpr unsigned SingleView = 1u;
-/** --angles, --views or --rtk-geometry: a batch of views of one volume. */
-constexpr unsigned Batch = 2u;
-/** --manifest: batches of many volumes. */
-constexpr unsigned Manifest = 4u;
-/** Every mode. */
-constexpr unsigned Every = SingleView | Batch | Manifest;
-} // namespace OptionModes
-
 /** The groups of pbdrr --help (OptionDeclaration::Group), in its order: HelpText() prints each group's heading, then
  * its options in the order of OptionDeclarations(). */
 enum class OptionGroup
@@ -153,31 +134,11 @@ enum class OptionGroup
   Messages   ///< input, other outputs and messages
 };
 
-/** One option of pbdrr, declared once: ParseCommandLine() parses it from this declaration, a mode the option does not
- * apply to refuses it (CheckOptionsApply()), HelpText() prints its help, and the tests check the fuzzers' dictionary
- * against the declarations (pbdrrPolicyRegistryGTest, pbdrrViewModesGTest). */
-struct OptionDeclaration
-{
-  std::string Name;   ///< --name
-  std::string Short;  ///< -x, or empty
-  size_t      Values; ///< how many values follow it (0: a switch)
-  unsigned    Modes;  ///< the modes it applies to (OptionModes bits)
-  /** Why a batch or a manifest that it does not apply to refuses it (a single view says "for a batch of views"). */
-  std::string Refusal;
-  OptionGroup Group; ///< the group of the help it is shown in
-  /** Its values in the help, named with their unit where they have one (MM, DEG, KEV, PER_MM, HU, KV), or the words it
-   * takes (F|auto|off, hu|mu); empty for a switch. */
-  std::string Placeholder;
-  /** The default the help states, where it states one: {default} in Help stands for it; empty otherwise. */
-  std::string Default;
-  /** Its help: one or more lines separated by '\n', printed as they break here, in the column of the help. */
-  std::string Help;
-  /** Sets the option in options from its values; throws UsageError naming it and a bad value. */
-  std::function<void(Options &, const std::vector<std::string> &)> Apply;
-  /** The lines listing the names it takes, from their registry (--kernel, --exact, ...), printed under Help; or empty.
-   */
-  std::string Choices{};
-};
+/** One option of pbdrr, declared once (pbdrrOptionDeclarations.cxx, with OptionBuilder): ParseCommandLine() parses it
+ * from this declaration, a mode the option does not apply to refuses it (CheckOptionsApply()), HelpText() prints its
+ * help, and docs/options.md and the fuzzers' dictionary are made from the declarations (pbdrrOptionPages.h; the tests
+ * OptionDeclarations.AreTheOptionsPage and AreTheFuzzDictionary compare them). */
+using OptionDeclaration = OptionDeclarationOf<Options, OptionGroup>;
 
 /** Every option of pbdrr, in the order of its help. */
 const std::vector<OptionDeclaration> &

@@ -45,12 +45,13 @@ struct RegisterOptions
   bool                      quiet{ false };
 };
 
-/** Parses the arguments after `register`; throws UsageError. --geometry and --projection-matrix give the view of the
- * --xray before them. */
+/** Parses the arguments after `register` by its table of options (pbdrrRegisterOptions.cxx, declared and parsed as
+ * pbdrr's are: pbdrrOptionTable.h); throws UsageError. --geometry and --projection-matrix give the view of the --xray
+ * before them. */
 RegisterOptions
 ParseRegisterCommandLine(const std::vector<std::string> & arguments);
 
-/** The text of pbdrr register --help. */
+/** The text of pbdrr register --help: its options' from the same table, by the same code as pbdrr --help's. */
 std::string
 RegisterHelpText();
 

@@ -19,6 +19,7 @@
 // samplers: these tests fail when a registered policy is missing from anything that must list it (the command line's
 // help and parsing, the enumerators' names, the dispatch, the wrapping, docs/wrapping.md, the README, the fuzzers'
 // dictionaries), or when the registrations contradict each other.
+#include "pbdrrOptionPages.h"
 #include "pbdrrOptions.h"
 
 #include "itkDRRPolicies.h"
@@ -361,79 +362,16 @@ TEST(OptionDeclarations, EachHasItsHelp)
 // short form: its lines that start with a dash are exactly these (the values after them are kept by hand).
 TEST(OptionDeclarations, AreTheFuzzDictionary)
 {
-  std::string expected;
-  for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
-  {
-    for (const std::string & form : { declaration.Name, declaration.Short })
-    {
-      if (!form.empty())
-      {
-        expected += "\"" + form + "\\x00\"\n";
-      }
-    }
-  }
-  std::istringstream dictionary(ReadProjectFile("test/fuzz/Options.dict"));
-  std::string        options;
-  std::string        line;
-  while (std::getline(dictionary, line))
-  {
-    if (line.rfind("\"-", 0) == 0)
-    {
-      options += line + "\n";
-    }
-  }
-  EXPECT_EQ(options, expected) << "test/fuzz/Options.dict must list the options of OptionDeclarations(), in order; "
-                                  "replace its option lines with:\n"
-                               << expected;
+  const std::string dictionary = ReadProjectFile("test/fuzz/Options.dict");
+  EXPECT_EQ(dictionary, pbdrr::OptionsDictionary(dictionary))
+    << "test/fuzz/Options.dict must list the options of OptionDeclarations(), in order: write it with\n"
+       "  cmake --build build --target pbdrr_option_pages";
 }
 
-// docs/options.md, the list of every option with its modes, is the table's: made here and compared whole.
+// docs/options.md, the list of every option with its modes, is the table's (pbdrr::OptionsPage()), compared whole.
 TEST(OptionDeclarations, AreTheOptionsPage)
 {
-  const std::map<pbdrr::OptionGroup, std::string> groups = { { pbdrr::OptionGroup::Geometry, "geometry" },
-                                                             { pbdrr::OptionGroup::Rendering, "rendering" },
-                                                             { pbdrr::OptionGroup::Physics, "physics" },
-                                                             { pbdrr::OptionGroup::Batches, "batches" },
-                                                             { pbdrr::OptionGroup::Messages, "messages" } };
-  // A cell of a Markdown table: its bars escaped.
-  const auto cell = [](const std::string & text) {
-    std::string escaped;
-    for (const char c : text)
-    {
-      escaped += c == '|' ? std::string("\\|") : std::string(1, c);
-    }
-    return escaped;
-  };
-  std::string expected =
-    "# The options of pbdrr and their modes\n\n"
-    "Made from `OptionDeclarations()` (`apps/pbdrr/pbdrrOptionDeclarations.cxx`), which `pbdrr --help` prints; the "
-    "test\n"
-    "`OptionDeclarations.AreTheOptionsPage` (`test/cli/pbdrrPolicyRegistryGTest.cxx`) fails on any difference and "
-    "prints\n"
-    "this page. A mode an option is not declared for refuses it and writes nothing: a single view with \"NAME: for a\n"
-    "batch of views\", a batch (`--angles`, `--views`, `--rtk-geometry`) or a manifest (`--manifest`) with the "
-    "message\n"
-    "of the last column. `--angles`, `--views` and `--rtk-geometry` make a run a batch, `--manifest` a manifest.\n\n"
-    "| option | values | group | single view | batch | manifest | refused with |\n"
-    "|---|---|---|---|---|---|---|\n";
-  std::map<unsigned, size_t> taken; // options per mode
-  for (const pbdrr::OptionDeclaration & declaration : pbdrr::OptionDeclarations())
-  {
-    const auto mode = [&](unsigned bit) {
-      taken[bit] += (declaration.Modes & bit) ? 1 : 0;
-      return std::string((declaration.Modes & bit) ? "yes" : "refused");
-    };
-    expected += "| `" + declaration.Name + "`" + (declaration.Short.empty() ? "" : ", `" + declaration.Short + "`") +
-                " | " + (declaration.Placeholder.empty() ? "" : "`" + cell(declaration.Placeholder) + "`") + " | " +
-                groups.at(declaration.Group) + " | " + mode(pbdrr::OptionModes::SingleView) + " | " +
-                mode(pbdrr::OptionModes::Batch) + " | " + mode(pbdrr::OptionModes::Manifest) + " | " +
-                cell(declaration.Refusal) + " |\n";
-  }
-  expected += "\n" + std::to_string(pbdrr::OptionDeclarations().size()) +
-              " options: " + std::to_string(taken[pbdrr::OptionModes::SingleView]) + " taken by a single view, " +
-              std::to_string(taken[pbdrr::OptionModes::Batch]) + " by a batch, " +
-              std::to_string(taken[pbdrr::OptionModes::Manifest]) + " by a manifest.\n";
-  EXPECT_EQ(ReadProjectFile("docs/options.md"), expected)
-    << "docs/options.md must be the table of OptionDeclarations(); replace it with:\n"
-    << expected;
+  EXPECT_EQ(ReadProjectFile("docs/options.md"), pbdrr::OptionsPage())
+    << "docs/options.md must be the table of OptionDeclarations(): write it with\n"
+       "  cmake --build build --target pbdrr_option_pages";
 }
