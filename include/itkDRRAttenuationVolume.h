@@ -21,6 +21,7 @@
 #include "itkDRRCompatibility.h"
 #include "itkDataObject.h"
 #include "itkObjectFactory.h"
+#include "itkImageRegion.h"
 #include "itkMatrix.h"
 #include "itkPoint.h"
 #include "itkMultiThreaderBase.h"
@@ -63,8 +64,10 @@ class DRRTransferFunction;
  *
  * A data object of ITK's pipeline: the output of DRRImageToAttenuationVolumeFilter (the preprocessing stage) and an
  * input of the DRR filters, which update it through the pipeline; its modified time is that of its last build, so
- * whatever is derived from it (a sampler's tables, a control variate, kept points) is stale when older. It has no
- * regions: a requested region is the whole volume.
+ * whatever is derived from it (a sampler's tables, a control variate, kept points) is stale when older. Its regions
+ * are regions of the input volume's grid: the largest possible one (the input's), the one requested of the stage (a
+ * slab of whole z planes, when a filter streams) and the one it models (buffered). A model holds the voxels of its
+ * region and no others, so a request for any other region, smaller too, builds it anew.
  *
  * \sa DRRImageToAttenuationVolumeFilter, DRRImageFilterBase::GetAttenuationVolume(), DRRTransferFunction,
  * DRRAttenuationLevels
@@ -90,6 +93,9 @@ public:
   using BlockFunctionType = std::function<void(uint64_t block)>;
   /** Fills mu (1/mm) of the voxels [begin, end) (linear index, x fastest) for BuildFromMu(). */
   using MuFunctionType = std::function<void(uint64_t begin, uint64_t end, float * mu)>;
+
+  /** A region of the input volume's grid (index space): the model's largest possible, requested and buffered ones. */
+  using RegionType = ImageRegion<3>;
 
   /** Method for creation through the object factory. */
   itkNewMacro(Self);
@@ -276,9 +282,63 @@ public:
     return m_ChannelLabels;
   }
 
-  /** Releases everything: an empty volume (size 0), as before a build. ITK's pipeline calls it to release data. */
+  /** Releases everything: an empty volume (size 0), as before a build, and no buffered region. ITK's pipeline calls it
+   * to release data. */
   void
   Initialize() override;
+
+  ///@{
+  /** The region of the input's grid a model can cover: the input volume's largest possible region (set by the stage's
+   * GenerateOutputInformation()); empty for a model built by hand. */
+  void
+  SetLargestPossibleRegion(const RegionType & region);
+  const RegionType &
+  GetLargestPossibleRegion() const
+  {
+    return m_LargestPossibleRegion;
+  }
+  ///@}
+  ///@{
+  /** The region asked of the stage: whole z planes of the largest possible region (a slab, when streaming). Empty
+   * until the pipeline sets it: then the largest possible region. */
+  void
+  SetRequestedRegion(const RegionType & region);
+  const RegionType &
+  GetRequestedRegion() const
+  {
+    return m_RequestedRegion;
+  }
+  ///@}
+  ///@{
+  /** The region the model holds (set by its stage with each build; empty for a model built by hand). */
+  void
+  SetBufferedRegion(const RegionType & region);
+  const RegionType &
+  GetBufferedRegion() const
+  {
+    return m_BufferedRegion;
+  }
+  ///@}
+
+  /** ITK's pipeline: the source's information, then the requested region, if none was set, the largest possible. */
+  void
+  UpdateOutputInformation() override;
+  /** ITK's pipeline: the whole input volume requested. */
+  void
+  SetRequestedRegionToLargestPossibleRegion() override;
+  /** ITK's pipeline: true if the model holds other voxels than those requested (more as well: a slab's model must not
+   * render its neighbours' voxels). */
+  bool
+  RequestedRegionIsOutsideOfTheBufferedRegion() override;
+  /** ITK's pipeline: the requested region lies within the largest possible one. */
+  bool
+  VerifyRequestedRegion() override;
+  /** ITK's pipeline: the requested region of another model. */
+  void
+  SetRequestedRegion(const DataObject * data) override;
+  /** ITK's pipeline: the largest possible region of another model. */
+  void
+  CopyInformation(const DataObject * data) override;
 
   /** Grid size in voxels (x, y, z). */
   const SizeType &
@@ -540,6 +600,9 @@ private:
   std::vector<uint8_t>      m_VoxelChannels;
   unsigned int              m_NumberOfChannels{ 1 };
   std::vector<uint16_t>     m_ChannelLabels;
+  RegionType                m_LargestPossibleRegion;
+  RegionType                m_RequestedRegion;
+  RegionType                m_BufferedRegion;
 };
 } // namespace itk
 

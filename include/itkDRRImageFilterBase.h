@@ -250,7 +250,9 @@ public:
    * as MetaImage's, NRRD's or uncompressed NIfTI's, reads only that slab), so that the render holds one slab and its
    * attenuation model at a time. The projection is the sum of the slabs' (each filter says how exactly). 1 (the
    * default) reads the whole volume at once; a filter may round slabs to whole blocks of planes, and makes at most one
-   * slab per block. Not with labels, channels or a shared attenuation volume. */
+   * slab per block. The filter's preprocessing stage models each slab (its voxels, labels and materials); kept and
+   * dropped labels stream, label channels and a shared attenuation volume do not, material channels where the filter
+   * sums them (the exact filter). */
   itkSetClampMacro(NumberOfStreamDivisions, unsigned int, 1, NumericTraits<unsigned int>::max());
   itkGetConstMacro(NumberOfStreamDivisions, unsigned int);
   ///@}
@@ -270,8 +272,9 @@ public:
   GetNumberOfSlabs() const;
 
   /** While streaming, the slab being read, 1 to GetNumberOfSlabs() (for progress: a render may pass over the slabs
-   * more than once); 0 otherwise. */
-  itkGetConstMacro(CurrentSlab, unsigned int);
+   * more than once): the one the preprocessing stage was last asked for; 0 otherwise. */
+  unsigned int
+  GetCurrentSlab() const;
 
   /** Bytes per voxel an unstreamed render holds: the input pixel and, as measured on the chest x2 and x4
    * (docs/performance.md), the filter's tables. */
@@ -310,15 +313,23 @@ protected:
   {}
   /** The rules of the inputs and outputs, checked before every update: an input volume or a shared attenuation model
    * (one of them), no label settings beside a shared model, an output mode the output pixel type holds, and for
-   * streaming an input volume without labels or channels. */
+   * streaming settings that stream (WhyNotStreamable()). */
   void
   VerifyPreconditions() const override;
 
   /** Why the filter's settings cannot be streamed, empty if they can: a budget streams only what can be, and
    * NumberOfStreamDivisions > 1 with settings that cannot is refused with this reason. The base's: an input volume
-   * (not a shared model) without labels or channels. */
+   * (not a shared model), no label channels, and material channels only if StreamsMaterialChannels(). */
   virtual std::string
   WhyNotStreamable() const;
+
+  /** True if the filter's streamed render adds up the slabs' material channels (a slab's channels are the whole
+   * volume's: every material of the transfer function's table). False here: a filter says so. */
+  virtual bool
+  StreamsMaterialChannels() const
+  {
+    return false;
+  }
 
   /** False if the next streamed update reads no slab (the point filter's kept points drawn already): the input is
    * then asked for what it holds, not for a slab. */
@@ -338,9 +349,11 @@ protected:
   /** Slab number `slab` of the input's largest region: whole z planes, the blocks of planes shared out evenly. */
   typename InputImageType::RegionType
   GetSlabRegion(unsigned int slab) const;
-  /** Requests slab `slab` from upstream (a streaming reader reads it alone; an image in memory is already there) and
-   * builds its attenuation model with the filter's transfer function: its index-to-physical matrix the volume's, its
-   * origin the slab's first plane, 16-bit values read in place. */
+  /** The attenuation model of slab `slab`, from the filter's preprocessing stage asked for that region (a streaming
+   * reader reads it alone; an image in memory is already there): its index-to-physical matrix the volume's, its origin
+   * the slab's first plane, 16-bit values read in place, the slab's labels applied. It is the stage's output, which
+   * holds one slab: the next ReadSlab() builds the next slab in it, after freeing this one's voxels (drop what was
+   * derived from it first). */
   DRRAttenuationVolume::Pointer
   ReadSlab(unsigned int slab);
   /** A model of no voxels with the whole input's grid (index-to-physical matrix and first voxel), for the whole
@@ -389,11 +402,12 @@ private:
   /** The shared attenuation model, or null. */
   const DRRAttenuationVolume *
   GetSharedAttenuationVolume() const;
-  /** Refuses, before anything is read, an input file that the reader upstream (an ImageFileReader, or any source with
-   * a "FileName" input) would read cut or damaged (DRRImageFileIntegrity): NIfTI's and TIFF's readers fill what is
-   * missing with zeros, and MetaImage's, asked for a slab, says so on std::cerr only. Once per file and reader time. */
+  /** The filter's own preprocessing stage, given the filter's input, label image and work units. */
+  AttenuationVolumeFilterType *
+  ConnectStage();
+  /** The first plane of slab `slab` of `slabs`, and the end of its planes, counted from the largest region's first. */
   void
-  CheckInputFile();
+  GetSlabPlanes(unsigned int slab, unsigned int slabs, uint64_t & first, uint64_t & end) const;
 
   typename GeometryType::Pointer                m_Geometry;
   typename TransformType::ConstPointer          m_Transform;
@@ -402,10 +416,7 @@ private:
   double                                        m_WindowWidth{ 0.0 };
   unsigned int                                  m_NumberOfStreamDivisions{ 1 };
   uint64_t                                      m_MemoryBudget{ DRRMemoryBudget::GetDefaultBudgetInBytes() };
-  unsigned int                                  m_CurrentSlab{ 0 };
-  std::string                                   m_CheckedInputFile;          // the last file CheckInputFile() passed
-  ModifiedTimeType                              m_CheckedInputFileTime{ 0 }; // its reader's time then
-  typename AttenuationVolumeFilterType::Pointer m_AttenuationVolumeFilter;   // the filter's own preprocessing stage
+  typename AttenuationVolumeFilterType::Pointer m_AttenuationVolumeFilter; // the filter's own preprocessing stage
 };
 } // namespace itk
 

@@ -198,7 +198,8 @@ void
 DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
 {
   Superclass::GenerateInputRequestedRegion();
-  this->CheckInputFile();
+  // The stage checks the input's file, before this filter asks for the input (a slab) itself.
+  this->ConnectStage()->VerifyInputFile();
   auto * input = const_cast<InputImageType *>(this->GetInput());
   if (input && this->GetNumberOfSlabs() > 1)
   {
@@ -212,7 +213,13 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
     input->SetRequestedRegionToLargestPossibleRegion();
   }
   auto * labels = const_cast<LabelImageType *>(this->GetLabelImage());
-  if (labels)
+  if (labels && input)
+  {
+    // The labels of the voxels asked for: the same planes of labels on the volume's grid, else the whole image.
+    labels->SetRequestedRegion(
+      AttenuationVolumeFilterType::LabelRegionOf(*input, *labels, input->GetRequestedRegion()));
+  }
+  else if (labels)
   {
     labels->SetRequestedRegionToLargestPossibleRegion();
   }
@@ -232,15 +239,27 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetAttenuationVolume()
 {
   if (const DRRAttenuationVolume * shared = this->GetSharedAttenuationVolume())
   {
-    const_cast<DRRAttenuationVolume *>(shared)->Update(); // through its source, if stale
+    // Through its source, if stale: the whole volume.
+    auto * model = const_cast<DRRAttenuationVolume *>(shared);
+    model->UpdateOutputInformation();
+    model->SetRequestedRegionToLargestPossibleRegion();
+    model->Update();
     return shared;
   }
+  AttenuationVolumeFilterType * stage = this->ConnectStage();
+  stage->UpdateLargestPossibleRegion(); // the whole volume, after slabs too
+  return stage->GetOutput();
+}
+
+template <typename TInputImage, typename TOutputImage>
+auto
+DRRImageFilterBase<TInputImage, TOutputImage>::ConnectStage() -> AttenuationVolumeFilterType *
+{
   AttenuationVolumeFilterType * stage = m_AttenuationVolumeFilter.GetPointer();
   stage->SetInput(this->GetInput());
   stage->SetLabelImage(this->GetLabelImage());
   stage->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  stage->Update();
-  return stage->GetOutput();
+  return stage;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -320,11 +339,30 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WhyNotStreamable() const
   {
     return "streaming reads the input volume slab by slab: a shared attenuation volume is already whole";
   }
-  if (this->GetLabelImage() || this->GetLabelChannels() || this->GetMaterialChannels())
+  if (this->GetLabelChannels())
   {
-    return "streaming renders without labels or channels (a slab's labels would be resampled apart)";
+    return "streaming renders no label channels: a slab's channels would be the labels it holds, not the volume's";
+  }
+  if (this->GetMaterialChannels() && !this->StreamsMaterialChannels())
+  {
+    return std::string("streaming renders no material channels in ") + this->GetNameOfClass() +
+           " (ExactDRRImageFilter's does)";
   }
   return {};
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+DRRImageFilterBase<TInputImage, TOutputImage>::GetSlabPlanes(unsigned int slab,
+                                                             unsigned int slabs,
+                                                             uint64_t &   first,
+                                                             uint64_t &   end) const
+{
+  const uint64_t planes = this->GetInput()->GetLargestPossibleRegion().GetSize()[2];
+  const uint64_t alignment = std::max<uint64_t>(this->GetSlabAlignment(), 1);
+  const uint64_t blocks = (planes + alignment - 1) / alignment;
+  first = std::min(planes, alignment * (blocks * slab / slabs));
+  end = std::min(planes, alignment * (blocks * (slab + 1) / slabs));
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -332,73 +370,50 @@ auto
 DRRImageFilterBase<TInputImage, TOutputImage>::GetSlabRegion(unsigned int slab) const ->
   typename InputImageType::RegionType
 {
-  auto           region = this->GetInput()->GetLargestPossibleRegion();
-  const uint64_t planes = region.GetSize()[2];
-  const uint64_t alignment = std::max<uint64_t>(this->GetSlabAlignment(), 1);
-  const uint64_t blocks = (planes + alignment - 1) / alignment;
-  const uint64_t slabs = this->GetNumberOfSlabs();
-  const uint64_t first = std::min(planes, alignment * (blocks * slab / slabs));
-  const uint64_t end = std::min(planes, alignment * (blocks * (slab + 1) / slabs));
+  auto     region = this->GetInput()->GetLargestPossibleRegion();
+  uint64_t first = 0;
+  uint64_t end = 0;
+  this->GetSlabPlanes(slab, this->GetNumberOfSlabs(), first, end);
   region.SetIndex(2, region.GetIndex()[2] + static_cast<IndexValueType>(first));
   region.SetSize(2, static_cast<SizeValueType>(end - first));
   return region;
 }
 
 template <typename TInputImage, typename TOutputImage>
-void
-DRRImageFilterBase<TInputImage, TOutputImage>::CheckInputFile()
+unsigned int
+DRRImageFilterBase<TInputImage, TOutputImage>::GetCurrentSlab() const
 {
   const InputImageType * input = this->GetInput();
-  const std::string      file = input ? DRRImageFileIntegrity::GetSourceFileName(input) : std::string();
-  if (file.empty())
+  const auto &           asked = m_AttenuationVolumeFilter->GetOutput()->GetRequestedRegion();
+  if (!input || asked.GetNumberOfPixels() == 0 || asked == input->GetLargestPossibleRegion())
   {
-    return;
+    return 0;
   }
-  const ModifiedTimeType readerTime = input->GetSource()->GetMTime();
-  if (file != m_CheckedInputFile || readerTime != m_CheckedInputFileTime)
+  const unsigned int slabs = this->GetNumberOfSlabs();
+  const uint64_t asked0 = static_cast<uint64_t>(asked.GetIndex()[2] - input->GetLargestPossibleRegion().GetIndex()[2]);
+  for (unsigned int slab = 0; slab < slabs; ++slab)
   {
-    DRRImageFileIntegrity::Check(file);
-    m_CheckedInputFile = file;
-    m_CheckedInputFileTime = readerTime;
+    uint64_t first = 0;
+    uint64_t end = 0;
+    this->GetSlabPlanes(slab, slabs, first, end);
+    if (first == asked0 && end - first == asked.GetSize()[2])
+    {
+      return slab + 1;
+    }
   }
+  return 0;
 }
 
 template <typename TInputImage, typename TOutputImage>
 DRRAttenuationVolume::Pointer
 DRRImageFilterBase<TInputImage, TOutputImage>::ReadSlab(unsigned int slab)
 {
-  auto *     input = const_cast<InputImageType *>(this->GetInput());
-  const auto largest = input->GetLargestPossibleRegion();
-  const auto region = this->GetSlabRegion(slab);
-  m_CurrentSlab = slab + 1;
-  if (input->GetSource() && !input->GetBufferedRegion().IsInside(region))
-  {
-    // The source makes the next slab anew: free this one first, or the reader allocates it beside the last.
-    input->ReleaseData();
-  }
-  input->SetRequestedRegion(region);
-  input->PropagateRequestedRegion();
-  input->UpdateOutputData();
-  const auto buffered = input->GetBufferedRegion();
-  if (!buffered.IsInside(region) || buffered.GetSize()[0] != largest.GetSize()[0] ||
-      buffered.GetSize()[1] != largest.GetSize()[1])
-  {
-    itkExceptionMacro("the input's source gave " << buffered << " for the slab " << region
-                                                 << ": a slab must be buffered in whole z planes");
-  }
-  auto volume = DRRAttenuationVolume::New();
-  AttenuationVolumeFilterType::SetIndexToPhysical(*input, region.GetIndex(), *volume);
-  const size_t plane = buffered.GetSize()[0] * buffered.GetSize()[1];
-  const auto * values =
-    input->GetBufferPointer() + plane * static_cast<size_t>(region.GetIndex()[2] - buffered.GetIndex()[2]);
-  MultiThreaderBase * threader = this->GetMultiThreader();
-  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  volume->Build(values,
-                { { region.GetSize()[0], region.GetSize()[1], region.GetSize()[2] } },
-                *this->GetTransferFunction(),
-                threader,
-                input->GetPixelContainer());
-  return volume;
+  // ITK's streaming (as ImageSink): the stage is asked for the slab's region, and its pipeline reads the slab.
+  DRRAttenuationVolume * model = this->ConnectStage()->GetOutput();
+  model->UpdateOutputInformation();
+  model->SetRequestedRegion(this->GetSlabRegion(slab));
+  model->Update();
+  return model;
 }
 
 template <typename TInputImage, typename TOutputImage>

@@ -20,10 +20,13 @@
 
 #include "itkDRRCompatibility.h"
 #include "itkDRRAttenuationVolume.h"
+#include "itkDRRImageFileIntegrity.h"
 #include "itkDRRLabelSelection.h"
 #include "itkDRRTransferFunction.h"
 #include "itkImage.h"
 #include "itkProcessObject.h"
+
+#include <string>
 
 namespace itk
 {
@@ -43,13 +46,21 @@ namespace itk
  *   exact->SetAttenuationVolume(model->GetOutput());
  * \endcode
  *
- * - Input: a 3D scalar image (HU, or mu in 1/mm with an Identity transfer function), wholly buffered; its origin,
- *   spacing and direction become the model's index-to-physical mapping. A 16-bit input is read in place (the model
- *   references its pixel container). NaN or infinite voxels and negative attenuation are refused.
+ * - Input: a 3D scalar image (HU, or mu in 1/mm with an Identity transfer function); its origin, spacing and
+ *   direction become the model's index-to-physical mapping. A 16-bit input is read in place (the model references its
+ *   pixel container). NaN or infinite voxels and negative attenuation are refused. An input read from a file is
+ *   checked first for being cut or damaged (VerifyInputFile()).
+ * - Slabs (streaming, docs/design.md section 16): the model is of the output's requested region
+ *   (DRRAttenuationVolume::SetRequestedRegion(); the whole volume by default), whole z planes of the input, which is
+ *   asked for those planes alone: a streaming reader reads them alone. The slab's model has the volume's
+ *   index-to-physical matrix and its origin at the slab's first plane; its voxels, labels and materials are those of
+ *   the whole volume's model. Only one slab is held: the last one's model is released before the next is read.
  * - Labels (optional, docs/design.md section 13): a label image on the volume's grid, or one resampled onto it by
  *   ITK's ResampleImageFilter with a nearest-neighbour interpolator (label 0 outside it, with a warning), selects which
  *   voxels attenuate (SetKeptLabels(), SetDroppedLabels()) and, with LabelChannels on, gives every voxel its label's
- *   channel.
+ *   channel. A slab takes the label image's matching planes (on the volume's grid) or the resampled labels of its own
+ *   voxels; a kept or dropped label must be in some slab, which is checked when the slabs read in order reach the last
+ *   plane. Label channels need the whole volume (a slab's channels would be its own labels).
  * - Material channels (docs/design.md section 14): with the transfer function's Materials mode, every voxel's channel
  *   is its material.
  *
@@ -94,6 +105,8 @@ public:
 
   /** Dimension of the input: 3. */
   static constexpr unsigned int InputImageDimension = 3;
+  /** A region of the input's grid: the model's requested region, a slab of whole z planes. */
+  using RegionType = typename InputImageType::RegionType;
 
   using Superclass::SetInput;
   /** The volume (required). */
@@ -165,6 +178,18 @@ public:
   ModifiedTimeType
   GetMTime() const override;
 
+  /** Refuses, before anything is read, an input file that the reader upstream (an ImageFileReader, or any source with
+   * a "FileName" input) would read cut or damaged (DRRImageFileIntegrity): NIfTI's and TIFF's readers fill what is
+   * missing with zeros, and MetaImage's, asked for a slab, says so on std::cerr only. Once per file and reader time.
+   * The stage calls it before it asks for its input; a filter that reads the same input itself first calls it too. */
+  void
+  VerifyInputFile();
+
+  /** The region of labels that holds the labels of the voxels of input's region: the matching region if labels lie on
+   * input's grid (a slab's planes), else the whole label image (resampled onto the slab by nearest neighbour). */
+  static typename LabelImageType::RegionType
+  LabelRegionOf(const InputImageType & input, const LabelImageType & labels, const RegionType & region);
+
   /** Gives volume the index-to-physical mapping of input's grid (direction times spacing) with its first voxel at
    * input's index firstVoxel (the largest region's first, or a streamed slab's). */
   static void
@@ -182,18 +207,19 @@ protected:
   DataObject::Pointer
   MakeOutput(DataObjectPointerArraySizeType index) override;
 
-  /** Requests the whole volume and the whole label image: the model covers every voxel. */
+  /** Requests the model's region of the volume (the output's requested region) and the label image's matching
+   * region, after VerifyInputFile(); frees the input's buffer first if its source makes the region anew (else the new
+   * slab would be allocated beside the last). */
   void
   GenerateInputRequestedRegion() override;
-  /** The model has no information to propagate before it is built. */
+  /** The model's largest possible region: the input's. */
   void
-  GenerateOutputInformation() override
-  {}
+  GenerateOutputInformation() override;
   /** The required input, and the settings' rules: label settings need a label image, material channels the
    * transfer function's Materials mode and no label channels. Throws an ExceptionObject naming the rule. */
   void
   VerifyPreconditions() const override;
-  /** Builds the model into the output, in place of the previous one (freed first). */
+  /** Builds the model of the requested region into the output, in place of the previous one (freed first). */
   void
   GenerateData() override;
 
@@ -201,15 +227,30 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  /** Material channels: every voxel's material (transfer function's table) as its channel. */
+  /** The first value of region (whole z planes of the largest possible region) in the input's buffer; throws if the
+   * input's source did not buffer it in whole planes. */
+  const InputPixelType *
+  GetRegionValues(const InputImageType & input, const RegionType & region) const;
+  /** Material channels: every voxel's material (transfer function's table) as its channel; values: the model's. */
   void
-  ApplyMaterials(const InputImageType & input, OutputType & volume);
-  /** The label selection and label channels (DRRLabelSelection). */
+  ApplyMaterials(const InputPixelType * values, OutputType & volume);
+  /** The label selection and label channels (DRRLabelSelection) of the voxels of region. */
   void
-  ApplyLabels(const InputImageType & input, OutputType & volume);
-  /** The label image on the volume's grid: itself, or resampled onto it by nearest neighbour (label 0 outside). */
+  ApplyLabels(const InputImageType & input, const RegionType & region, OutputType & volume);
+  /** The labels of a slab (not the whole volume): masks the voxels of labels left out, and checks the labels present
+   * in the slabs read in order from the first plane once they reach the last. */
+  void
+  ApplySlabLabels(const LabelPixelType * labels,
+                  const RegionType &     region,
+                  const RegionType &     largest,
+                  OutputType &           volume);
+  /** The labels of region's voxels on the volume's grid: the label image itself, or its region's voxels resampled by
+   * nearest neighbour (label 0 outside). first is set to the label of region's first voxel. */
   typename LabelImageType::ConstPointer
-  LabelsOnVolumeGrid(const InputImageType & input) const;
+  LabelsOnVolumeGrid(const InputImageType & input, const RegionType & region, const LabelPixelType *& first) const;
+  /** True if labels lie on input's grid (size, origin, spacing and direction, to a tolerance). */
+  static bool
+  IsOnVolumeGrid(const InputImageType & input, const LabelImageType & labels);
   /** Refuses, before resampling, a label image that no voxel centre of the volume can fall in (another volume's). */
   void
   VerifyLabelsCoverVolume(const InputImageType & input, const LabelImageType & labels) const;
@@ -219,6 +260,12 @@ private:
   LabelListType                          m_DroppedLabels;
   bool                                   m_LabelChannels{ false };
   bool                                   m_MaterialChannels{ false };
+  // Caches, not settings: the file VerifyInputFile() last passed and its reader's time then; the labels present in the
+  // slabs modelled in order since the first plane, and the plane after them.
+  std::string                       m_CheckedInputFile;
+  ModifiedTimeType                  m_CheckedInputFileTime{ 0 };
+  DRRLabelSelection::LabelFlagsType m_LabelsInSlabs;
+  IndexValueType                    m_NextSlabPlane{ 0 };
 };
 } // namespace itk
 

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace itk
 {
@@ -86,9 +87,81 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::GetMTime() const
 
 template <typename TInputImage>
 void
+DRRImageToAttenuationVolumeFilter<TInputImage>::GenerateOutputInformation()
+{
+  if (const InputImageType * input = this->GetInput())
+  {
+    this->GetOutput()->SetLargestPossibleRegion(input->GetLargestPossibleRegion());
+  }
+}
+
+template <typename TInputImage>
+void
 DRRImageToAttenuationVolumeFilter<TInputImage>::GenerateInputRequestedRegion()
 {
   Superclass::GenerateInputRequestedRegion(); // every input's largest possible region
+  this->VerifyInputFile();
+  auto * input = const_cast<InputImageType *>(this->GetInput());
+  if (!input)
+  {
+    return;
+  }
+  RegionType region = this->GetOutput()->GetRequestedRegion();
+  if (region.GetNumberOfPixels() == 0)
+  {
+    region = input->GetLargestPossibleRegion(); // not asked through the model's pipeline: the whole volume
+  }
+  if (input->GetSource() && !input->GetBufferedRegion().IsInside(region))
+  {
+    // The source makes the region anew: free the last one first, or the reader allocates the slab beside it. The
+    // last model, which may read it in place, is freed before the source runs (PrepareOutputs()).
+    input->ReleaseData();
+  }
+  input->SetRequestedRegion(region);
+  if (auto * labels = const_cast<LabelImageType *>(this->GetLabelImage()))
+  {
+    labels->SetRequestedRegion(LabelRegionOf(*input, *labels, region));
+  }
+}
+
+template <typename TInputImage>
+void
+DRRImageToAttenuationVolumeFilter<TInputImage>::VerifyInputFile()
+{
+  const InputImageType * input = this->GetInput();
+  const std::string      file = input ? DRRImageFileIntegrity::GetSourceFileName(input) : std::string();
+  if (file.empty())
+  {
+    return;
+  }
+  const ModifiedTimeType readerTime = input->GetSource()->GetMTime();
+  if (file != m_CheckedInputFile || readerTime != m_CheckedInputFileTime)
+  {
+    DRRImageFileIntegrity::Check(file);
+    m_CheckedInputFile = file;
+    m_CheckedInputFileTime = readerTime;
+  }
+}
+
+template <typename TInputImage>
+auto
+DRRImageToAttenuationVolumeFilter<TInputImage>::LabelRegionOf(const InputImageType & input,
+                                                              const LabelImageType & labels,
+                                                              const RegionType &     region) ->
+  typename LabelImageType::RegionType
+{
+  const auto largest = input.GetLargestPossibleRegion();
+  const auto labelLargest = labels.GetLargestPossibleRegion();
+  if (!IsOnVolumeGrid(input, labels))
+  {
+    return labelLargest;
+  }
+  typename LabelImageType::RegionType matching(region.GetSize());
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    matching.SetIndex(a, region.GetIndex()[a] - largest.GetIndex()[a] + labelLargest.GetIndex()[a]);
+  }
+  return matching;
 }
 
 template <typename TInputImage>
@@ -129,30 +202,58 @@ void
 DRRImageToAttenuationVolumeFilter<TInputImage>::GenerateData()
 {
   const InputImageType * input = this->GetInput();
-  const auto             region = input->GetLargestPossibleRegion();
+  const auto             largest = input->GetLargestPossibleRegion();
+  if (largest.GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro("the input volume is empty (size " << largest.GetSize() << ")");
+  }
+  OutputType * volume = this->GetOutput();
+  RegionType   region = volume->GetRequestedRegion();
   if (region.GetNumberOfPixels() == 0)
   {
-    itkExceptionMacro("the input volume is empty (size " << region.GetSize() << ")");
+    region = largest;
   }
-  if (input->GetBufferedRegion() != region)
-  {
-    itkExceptionMacro("the whole input volume must be buffered (buffered " << input->GetBufferedRegion() << ", largest "
-                                                                           << region << ")");
-  }
-  OutputType *         volume = this->GetOutput();
-  OutputType::SizeType size;
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    size[a] = region.GetSize()[a];
-  }
-  SetIndexToPhysical(*input, input->GetLargestPossibleRegion().GetIndex(), *volume);
+  const auto * values = this->GetRegionValues(*input, region);
+  SetIndexToPhysical(*input, region.GetIndex(), *volume);
   // On the filter's threads, as many as its work units.
   MultiThreaderBase * threader = this->GetMultiThreader();
   threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
   // The pixel container keeps the values alive: 16-bit CT is read in place, not copied.
-  volume->Build(input->GetBufferPointer(), size, *m_TransferFunction, threader, input->GetPixelContainer());
-  this->ApplyMaterials(*input, *volume);
-  this->ApplyLabels(*input, *volume);
+  volume->Build(values,
+                { { region.GetSize()[0], region.GetSize()[1], region.GetSize()[2] } },
+                *m_TransferFunction,
+                threader,
+                input->GetPixelContainer());
+  this->ApplyMaterials(values, *volume);
+  this->ApplyLabels(*input, region, *volume);
+  volume->SetBufferedRegion(region);
+}
+
+template <typename TInputImage>
+auto
+DRRImageToAttenuationVolumeFilter<TInputImage>::GetRegionValues(const InputImageType & input,
+                                                                const RegionType &     region) const
+  -> const InputPixelType *
+{
+  const auto largest = input.GetLargestPossibleRegion();
+  const auto buffered = input.GetBufferedRegion();
+  const auto wholePlanesOf = [&](const RegionType & r) {
+    return r.GetNumberOfPixels() > 0 && largest.IsInside(r) && r.GetSize()[0] == largest.GetSize()[0] &&
+           r.GetSize()[1] == largest.GetSize()[1];
+  };
+  if (!wholePlanesOf(region))
+  {
+    itkExceptionMacro("the model's requested region " << region << " is not whole z planes of the input volume's "
+                                                      << largest);
+  }
+  if (!wholePlanesOf(buffered) || !buffered.IsInside(region))
+  {
+    itkExceptionMacro("the input's source gave " << buffered << " for " << region
+                                                 << ": the volume must be buffered in whole z planes (largest "
+                                                 << largest << ")");
+  }
+  const size_t plane = static_cast<size_t>(buffered.GetSize()[0]) * buffered.GetSize()[1];
+  return input.GetBufferPointer() + plane * static_cast<size_t>(region.GetIndex()[2] - buffered.GetIndex()[2]);
 }
 
 template <typename TInputImage>
@@ -182,7 +283,7 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::SetIndexToPhysical(
 
 template <typename TInputImage>
 void
-DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyMaterials(const InputImageType & input, OutputType & volume)
+DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyMaterials(const InputPixelType * values, OutputType & volume)
 {
   if (!m_MaterialChannels)
   {
@@ -196,9 +297,8 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyMaterials(const InputImageT
   }
   if (K > 1)
   {
-    const InputPixelType * values = input.GetBufferPointer();
-    std::vector<uint8_t>   channels(volume.GetNumberOfVoxels());
-    const auto             materialOf = [&](double value) {
+    std::vector<uint8_t> channels(volume.GetNumberOfVoxels());
+    const auto           materialOf = [&](double value) {
       return static_cast<uint8_t>(std::max(0, m_TransferFunction->GetMaterialIndex(value)));
     };
     // CT in HU (integers, whatever the pixel type): one lookup per voxel in a table of the int16 range instead of a
@@ -229,15 +329,29 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyMaterials(const InputImageT
 
 template <typename TInputImage>
 void
-DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyLabels(const InputImageType & input, OutputType & volume)
+DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyLabels(const InputImageType & input,
+                                                            const RegionType &     region,
+                                                            OutputType &           volume)
 {
   if (!this->GetLabelImage())
   {
     return;
   }
-  const typename LabelImageType::ConstPointer labels = this->LabelsOnVolumeGrid(input);
-  const LabelListType                         channelLabels = DRRLabelSelection::Apply(
-    labels->GetBufferPointer(), m_KeptLabels, m_DroppedLabels, m_LabelChannels, volume, this->GetMultiThreader());
+  const RegionType largest = input.GetLargestPossibleRegion();
+  if (region != largest && m_LabelChannels)
+  {
+    itkExceptionMacro("label channels need the whole volume modelled at once: a slab's channels would be the labels "
+                      "it holds, not the volume's");
+  }
+  const LabelPixelType *                      first = nullptr;
+  const typename LabelImageType::ConstPointer labels = this->LabelsOnVolumeGrid(input, region, first);
+  if (region != largest)
+  {
+    this->ApplySlabLabels(first, region, largest, volume);
+    return;
+  }
+  const LabelListType channelLabels =
+    DRRLabelSelection::Apply(first, m_KeptLabels, m_DroppedLabels, m_LabelChannels, volume, this->GetMultiThreader());
   if (m_LabelChannels)
   {
     volume.SetChannelLabels(channelLabels);
@@ -245,42 +359,104 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyLabels(const InputImageType
 }
 
 template <typename TInputImage>
+void
+DRRImageToAttenuationVolumeFilter<TInputImage>::ApplySlabLabels(const LabelPixelType * labels,
+                                                                const RegionType &     region,
+                                                                const RegionType &     largest,
+                                                                OutputType &           volume)
+{
+  const auto present = DRRLabelSelection::FindPresent(labels, volume, this->GetMultiThreader());
+  DRRLabelSelection::ApplyToSlab(labels, present, m_KeptLabels, m_DroppedLabels, volume, this->GetMultiThreader());
+  // A kept or dropped label must be in some voxel of the volume: checked on the union of the slabs' labels once the
+  // slabs, read in order from the first plane (as the DRR filters read them), reach the last. Slabs read otherwise
+  // are not checked.
+  const IndexValueType firstPlane = region.GetIndex()[2];
+  const IndexValueType endPlane = firstPlane + static_cast<IndexValueType>(region.GetSize()[2]);
+  if (firstPlane == largest.GetIndex()[2])
+  {
+    m_LabelsInSlabs = present;
+  }
+  else if (firstPlane == m_NextSlabPlane && !m_LabelsInSlabs.empty())
+  {
+    std::transform(
+      m_LabelsInSlabs.begin(), m_LabelsInSlabs.end(), present.begin(), m_LabelsInSlabs.begin(), std::bit_or<uint8_t>());
+  }
+  else
+  {
+    m_LabelsInSlabs.clear();
+  }
+  m_NextSlabPlane = endPlane;
+  if (!m_LabelsInSlabs.empty() && endPlane == largest.GetIndex()[2] + static_cast<IndexValueType>(largest.GetSize()[2]))
+  {
+    DRRLabelSelection::Verify(m_LabelsInSlabs, m_KeptLabels, m_DroppedLabels);
+  }
+}
+
+template <typename TInputImage>
 auto
-DRRImageToAttenuationVolumeFilter<TInputImage>::LabelsOnVolumeGrid(const InputImageType & input) const ->
+DRRImageToAttenuationVolumeFilter<TInputImage>::LabelsOnVolumeGrid(const InputImageType &  input,
+                                                                   const RegionType &      region,
+                                                                   const LabelPixelType *& first) const ->
   typename LabelImageType::ConstPointer
 {
   const LabelImageType * labels = this->GetLabelImage();
-  const auto             region = input.GetLargestPossibleRegion();
+  const auto             largest = input.GetLargestPossibleRegion();
   const auto             labelRegion = labels->GetLargestPossibleRegion();
+  if (IsOnVolumeGrid(input, *labels))
+  {
+    // The labels of the region's planes, read in place.
+    const auto wanted = LabelRegionOf(input, *labels, region);
+    const auto buffered = labels->GetBufferedRegion();
+    if (!buffered.IsInside(wanted) || buffered.GetSize()[0] != labelRegion.GetSize()[0] ||
+        buffered.GetSize()[1] != labelRegion.GetSize()[1])
+    {
+      itkExceptionMacro("the label image's source gave " << buffered << " for " << wanted
+                                                         << ": the labels must be buffered in whole z planes");
+    }
+    const size_t plane = static_cast<size_t>(buffered.GetSize()[0]) * buffered.GetSize()[1];
+    first = labels->GetBufferPointer() + plane * static_cast<size_t>(wanted.GetIndex()[2] - buffered.GetIndex()[2]);
+    return labels;
+  }
   if (labels->GetBufferedRegion() != labelRegion)
   {
     itkExceptionMacro("the whole label image must be buffered");
   }
-  const double tolerance = 1e-4 * input.GetSpacing().GetVnlVector().min_value();
-  const bool   sameGrid =
-    region.GetSize() == labelRegion.GetSize() &&
-    input.GetOrigin().EuclideanDistanceTo(labels->GetOrigin()) <= tolerance &&
-    (input.GetSpacing() - labels->GetSpacing()).GetNorm() <= tolerance &&
-    (input.GetDirection().GetVnlMatrix() - labels->GetDirection().GetVnlMatrix()).absolute_value_max() <= 1e-6;
-  if (sameGrid)
-  {
-    return labels;
-  }
   this->VerifyLabelsCoverVolume(input, *labels);
-  itkWarningMacro("the label image (size "
-                  << labelRegion.GetSize() << ", spacing " << labels->GetSpacing() << ", origin " << labels->GetOrigin()
-                  << ") is not on the volume's grid (size " << region.GetSize() << ", spacing " << input.GetSpacing()
-                  << ", origin " << input.GetOrigin()
-                  << "): resampled onto it by nearest neighbour, label 0 outside it");
+  if (region.GetIndex()[2] == largest.GetIndex()[2])
+  {
+    // Once per volume, not once per slab.
+    itkWarningMacro("the label image (size " << labelRegion.GetSize() << ", spacing " << labels->GetSpacing()
+                                             << ", origin " << labels->GetOrigin()
+                                             << ") is not on the volume's grid (size " << largest.GetSize()
+                                             << ", spacing " << input.GetSpacing() << ", origin " << input.GetOrigin()
+                                             << "): resampled onto it by nearest neighbour, label 0 outside it");
+  }
+  // The region's voxels alone: ResampleImageFilter maps each output row from its first voxel, so a slab's labels are
+  // the whole volume's, bit for bit.
   using ResampleType = ResampleImageFilter<LabelImageType, LabelImageType>;
   auto resample = ResampleType::New();
   resample->SetInput(labels);
   resample->SetInterpolator(NearestNeighborInterpolateImageFunction<LabelImageType, double>::New());
   resample->SetOutputParametersFromImage(&input);
+  resample->SetOutputStartIndex(region.GetIndex());
+  resample->SetSize(region.GetSize());
   resample->SetDefaultPixelValue(0);
   resample->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
   resample->Update();
+  first = resample->GetOutput()->GetBufferPointer();
   return resample->GetOutput();
+}
+
+template <typename TInputImage>
+bool
+DRRImageToAttenuationVolumeFilter<TInputImage>::IsOnVolumeGrid(const InputImageType & input,
+                                                               const LabelImageType & labels)
+{
+  const double tolerance = 1e-4 * input.GetSpacing().GetVnlVector().min_value();
+  return input.GetLargestPossibleRegion().GetSize() == labels.GetLargestPossibleRegion().GetSize() &&
+         input.GetOrigin().EuclideanDistanceTo(labels.GetOrigin()) <= tolerance &&
+         (input.GetSpacing() - labels.GetSpacing()).GetNorm() <= tolerance &&
+         (input.GetDirection().GetVnlMatrix() - labels.GetDirection().GetVnlMatrix()).absolute_value_max() <= 1e-6;
 }
 
 template <typename TInputImage>

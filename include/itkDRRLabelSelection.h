@@ -63,6 +63,30 @@ public:
         DRRAttenuationVolume & volume,
         MultiThreaderBase *    threader);
 
+  /** A flag per label value (0 to 65535): 1 if some voxel has it. */
+  using LabelFlagsType = std::vector<uint8_t>;
+
+  /** The labels present in volume's voxels (labels: one per voxel of its grid, x fastest), in parallel over its fixed
+   * blocks. */
+  static LabelFlagsType
+  FindPresent(const LabelType * labels, const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
+
+  /** Throws for a kept or dropped label not present, and for a selection that leaves no label present. Returns the
+   * labels that attenuate, in increasing order. */
+  static LabelListType
+  Verify(const LabelFlagsType & present, const LabelListType & keptLabels, const LabelListType & droppedLabels);
+
+  /** Apply() without its checks, for a slab of the volume whose labels are not all the volume's (present: the slab's;
+   * the stage checks the union of the slabs'): masks the voxels of labels left out, every voxel when none is left.
+   * Throws for channels, which the volume's labels number. */
+  static void
+  ApplyToSlab(const LabelType *      labels,
+              const LabelFlagsType & present,
+              const LabelListType &  keptLabels,
+              const LabelListType &  droppedLabels,
+              DRRAttenuationVolume & volume,
+              MultiThreaderBase *    threader);
+
   /** "1, 3, 7": a list of labels for messages and metadata. */
   static std::string
   ToString(const LabelListType & labels);

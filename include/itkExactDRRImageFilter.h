@@ -85,13 +85,20 @@ protected:
   /** The base's reasons, and the tent kernel's (a tent voxel reaches into the next slab). */
   std::string
   WhyNotStreamable() const override;
+  /** True: the slabs' material channels add up like their images. */
+  bool
+  StreamsMaterialChannels() const override
+  {
+    return true;
+  }
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
-  /** The projection as the sum of the slabs' projections, each slab requested from the pipeline and modelled alone. */
+  /** The projection as the sum of the slabs' projections, each slab requested from the pipeline and modelled alone;
+   * channels: the sums of the slabs' channel images (K per pixel, pixel major; empty with one channel or none). */
   std::vector<double>
-  RenderStreamed();
+  RenderStreamed(std::vector<double> & channels);
 
   KernelEnum   m_ReconstructionKernel{ KernelEnum::Box };
   unsigned int m_RaysPerPixelSide{ 1 };

@@ -33,8 +33,10 @@ ExactDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
   this->UpdateProgress(0.0f);
   if (this->GetNumberOfSlabs() > 1)
   {
-    this->WriteOutputs(this->RenderStreamed());
-    this->WriteChannelOutputs({}, nullptr);
+    std::vector<double>       channels;
+    const std::vector<double> image = this->RenderStreamed(channels);
+    this->WriteOutputs(image);
+    this->WriteChannelOutputs(this->GetChannelLabels().size() == 1 ? image : channels, nullptr);
     this->UpdateProgress(1.0f);
     return;
   }
@@ -65,7 +67,7 @@ ExactDRRImageFilter<TInputImage, TOutputImage>::WhyNotStreamable() const
 
 template <typename TInputImage, typename TOutputImage>
 std::vector<double>
-ExactDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed()
+ExactDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(std::vector<double> & channels)
 {
   const unsigned int  slabs = this->GetNumberOfSlabs();
   MultiThreaderBase * threader = this->GetMultiThreader();
@@ -74,12 +76,19 @@ ExactDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed()
   {
     const DRRAttenuationVolume::Pointer volume = this->ReadSlab(slab);
     const DRRExactRayIntegrator         integrator(*volume, m_ReconstructionKernel);
+    std::vector<double>                 partChannels;
     const std::vector<double>           part =
-      integrator.RenderProjection(this->MakeProjection(*volume), m_RaysPerPixelSide, threader, nullptr);
+      integrator.RenderProjection(this->MakeProjection(*volume), m_RaysPerPixelSide, threader, nullptr, &partChannels);
     image.resize(part.size(), 0.0);
     for (size_t p = 0; p < part.size(); ++p)
     {
       image[p] += part[p];
+    }
+    // Material channels, the only ones streamed: the same K channels in every slab (the table's materials).
+    channels.resize(partChannels.size(), 0.0);
+    for (size_t c = 0; c < partChannels.size(); ++c)
+    {
+      channels[c] += partChannels[c];
     }
     this->UpdateProgress(static_cast<float>(slab + 1) / static_cast<float>(slabs));
   }

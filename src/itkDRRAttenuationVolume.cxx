@@ -137,6 +137,7 @@ DRRAttenuationVolume::Initialize()
 {
   Superclass::Initialize();
   this->Reset(SizeType{ { 0, 0, 0 } });
+  m_BufferedRegion = RegionType(); // the region held goes with the voxels: the next request builds it again
 }
 
 uint64_t
@@ -745,6 +746,7 @@ DRRAttenuationVolume::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "Size: " << m_Size[0] << " x " << m_Size[1] << " x " << m_Size[2] << std::endl;
   os << indent << "IndexToPhysical (mm per index): " << m_IndexToPhysical << std::endl;
   os << indent << "Origin (mm): " << m_Origin << std::endl;
+  os << indent << "BufferedRegion: " << m_BufferedRegion.GetIndex() << " + " << m_BufferedRegion.GetSize() << std::endl;
   if (this->IsResidual())
   {
     os << indent << "Residual of a control variate, factor " << m_ResidualFactor << std::endl;

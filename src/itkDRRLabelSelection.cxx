@@ -50,6 +50,60 @@ VerifyPresent(const DRRLabelSelection::LabelListType & listed, const std::vector
     }
   }
 }
+/** Runs f(block, first voxel, end voxel) for every fixed block of volume, in parallel. */
+void
+ForEachBlock(const DRRAttenuationVolume &                              volume,
+             MultiThreaderBase *                                       threader,
+             const std::function<void(uint64_t, uint64_t, uint64_t)> & f)
+{
+  DRRAttenuationVolume::ParallelizeBlocks(
+    volume.GetNumberOfBlocks(),
+    [&](uint64_t b) { f(b, volume.GetBlockBegin(b), volume.GetBlockBegin(b + 1)); },
+    threader);
+}
+
+/** A flag per label value: 1 if its voxels attenuate (kept, every label when none is listed, and not dropped). */
+DRRLabelSelection::LabelFlagsType
+Attenuates(const DRRLabelSelection::LabelListType & keptLabels, const DRRLabelSelection::LabelListType & droppedLabels)
+{
+  DRRLabelSelection::LabelFlagsType attenuates(numberOfLabelValues, keptLabels.empty() ? 1 : 0);
+  for (const auto label : keptLabels)
+  {
+    attenuates[label] = 1;
+  }
+  for (const auto label : droppedLabels)
+  {
+    attenuates[label] = 0;
+  }
+  return attenuates;
+}
+
+/** Makes air of the voxels whose label does not attenuate, if a present label does not. */
+void
+MaskLeftOut(const DRRLabelSelection::LabelType *      labels,
+            const DRRLabelSelection::LabelFlagsType & present,
+            const DRRLabelSelection::LabelFlagsType & attenuates,
+            DRRAttenuationVolume &                    volume,
+            MultiThreaderBase *                       threader)
+{
+  bool someLeftOut = false;
+  for (size_t l = 0; l < numberOfLabelValues && !someLeftOut; ++l)
+  {
+    someLeftOut = present[l] && !attenuates[l];
+  }
+  if (!someLeftOut)
+  {
+    return;
+  }
+  std::unique_ptr<uint8_t[]> keep(new uint8_t[volume.GetNumberOfVoxels()]); // first touched by the threads that fill it
+  ForEachBlock(volume, threader, [&](uint64_t, uint64_t begin, uint64_t end) {
+    for (uint64_t v = begin; v < end; ++v)
+    {
+      keep[v] = attenuates[labels[v]];
+    }
+  });
+  volume.ApplyVoxelMask(keep.get(), threader);
+}
 } // namespace
 
 std::string
@@ -63,49 +117,38 @@ DRRLabelSelection::ToString(const LabelListType & labels)
   return text.str();
 }
 
-DRRLabelSelection::LabelListType
-DRRLabelSelection::Apply(const LabelType *      labels,
-                         const LabelListType &  keptLabels,
-                         const LabelListType &  droppedLabels,
-                         bool                   channels,
-                         DRRAttenuationVolume & volume,
-                         MultiThreaderBase *    threader)
+DRRLabelSelection::LabelFlagsType
+DRRLabelSelection::FindPresent(const LabelType *            labels,
+                               const DRRAttenuationVolume & volume,
+                               MultiThreaderBase *          threader)
 {
-  const uint64_t numberOfVoxels = volume.GetNumberOfVoxels();
-  // The labels present, per block of the volume's fixed partition, in parallel (a serial pass took seconds on a
-  // 577 M voxel CT), then merged.
-  const uint64_t                    numberOfBlocks = volume.GetNumberOfBlocks();
-  std::vector<std::vector<uint8_t>> presentInBlock(numberOfBlocks);
-  const auto                        forEachBlock = [&](const std::function<void(uint64_t, uint64_t, uint64_t)> & f) {
-    DRRAttenuationVolume::ParallelizeBlocks(
-      numberOfBlocks, [&](uint64_t b) { f(b, volume.GetBlockBegin(b), volume.GetBlockBegin(b + 1)); }, threader);
-  };
-  forEachBlock([&](uint64_t b, uint64_t begin, uint64_t end) {
+  // Per block of the volume's fixed partition, in parallel (a serial pass took seconds on a 577 M voxel CT), then
+  // merged.
+  std::vector<LabelFlagsType> presentInBlock(volume.GetNumberOfBlocks());
+  ForEachBlock(volume, threader, [&](uint64_t b, uint64_t begin, uint64_t end) {
     presentInBlock[b].assign(numberOfLabelValues, 0);
     for (uint64_t v = begin; v < end; ++v)
     {
       presentInBlock[b][labels[v]] = 1;
     }
   });
-  std::vector<uint8_t> present(numberOfLabelValues, 0);
+  LabelFlagsType present(numberOfLabelValues, 0);
   for (const auto & block : presentInBlock)
   {
     std::transform(present.begin(), present.end(), block.begin(), present.begin(), std::bit_or<uint8_t>());
   }
-  presentInBlock = {};
+  return present;
+}
+
+DRRLabelSelection::LabelListType
+DRRLabelSelection::Verify(const LabelFlagsType & present,
+                          const LabelListType &  keptLabels,
+                          const LabelListType &  droppedLabels)
+{
   VerifyPresent(keptLabels, present, "kept");
   VerifyPresent(droppedLabels, present, "dropped");
-  // A label attenuates if kept (every label when none is listed) and not dropped.
-  std::vector<uint8_t> attenuates(numberOfLabelValues, keptLabels.empty() ? 1 : 0);
-  for (const auto label : keptLabels)
-  {
-    attenuates[label] = 1;
-  }
-  for (const auto label : droppedLabels)
-  {
-    attenuates[label] = 0;
-  }
-  LabelListType selected;
+  const LabelFlagsType attenuates = Attenuates(keptLabels, droppedLabels);
+  LabelListType        selected;
   for (size_t l = 0; l < numberOfLabelValues; ++l)
   {
     if (present[l] && attenuates[l])
@@ -119,17 +162,31 @@ DRRLabelSelection::Apply(const LabelType *      labels,
                                                  << ") minus the dropped ones (" << ToString(droppedLabels)
                                                  << ") leave no label to render");
   }
-  if (selected.size() < static_cast<size_t>(std::count(present.begin(), present.end(), uint8_t(1))))
-  {
-    std::unique_ptr<uint8_t[]> keep(new uint8_t[numberOfVoxels]); // first touched by the threads that fill it
-    forEachBlock([&](uint64_t, uint64_t begin, uint64_t end) {
-      for (uint64_t v = begin; v < end; ++v)
-      {
-        keep[v] = attenuates[labels[v]];
-      }
-    });
-    volume.ApplyVoxelMask(keep.get(), threader);
-  }
+  return selected;
+}
+
+void
+DRRLabelSelection::ApplyToSlab(const LabelType *      labels,
+                               const LabelFlagsType & present,
+                               const LabelListType &  keptLabels,
+                               const LabelListType &  droppedLabels,
+                               DRRAttenuationVolume & volume,
+                               MultiThreaderBase *    threader)
+{
+  MaskLeftOut(labels, present, Attenuates(keptLabels, droppedLabels), volume, threader);
+}
+
+DRRLabelSelection::LabelListType
+DRRLabelSelection::Apply(const LabelType *      labels,
+                         const LabelListType &  keptLabels,
+                         const LabelListType &  droppedLabels,
+                         bool                   channels,
+                         DRRAttenuationVolume & volume,
+                         MultiThreaderBase *    threader)
+{
+  const LabelFlagsType present = FindPresent(labels, volume, threader);
+  const LabelListType  selected = Verify(present, keptLabels, droppedLabels);
+  MaskLeftOut(labels, present, Attenuates(keptLabels, droppedLabels), volume, threader);
   if (!channels)
   {
     return {};
@@ -147,8 +204,8 @@ DRRLabelSelection::Apply(const LabelType *      labels,
     {
       channelOfLabel[selected[c]] = static_cast<uint8_t>(c);
     }
-    std::vector<uint8_t> channelOfVoxel(numberOfVoxels);
-    forEachBlock([&](uint64_t, uint64_t begin, uint64_t end) {
+    std::vector<uint8_t> channelOfVoxel(volume.GetNumberOfVoxels());
+    ForEachBlock(volume, threader, [&](uint64_t, uint64_t begin, uint64_t end) {
       for (uint64_t v = begin; v < end; ++v)
       {
         // A voxel left out is air and never drawn: its channel does not matter.

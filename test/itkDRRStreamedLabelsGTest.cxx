@@ -1,0 +1,426 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS and the PointBasedDRR contributors
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+// One route from voxels to the model (issue 40, item 4): the preprocessing stage models a slab of the volume (its
+// requested region) with the slab's labels and materials, the DRR filters stream by asking it, and so kept and dropped
+// labels (and the exact filter's material channels) stream: the streamed render is the unstreamed one's.
+#include "itkPointBasedDRRImageFilter.h"
+#include "itkDRRImageToAttenuationVolumeFilter.h"
+#include "itkDRRMaterialTable.h"
+#include "itkExactDRRImageFilter.h"
+#include "itkImageRegionIterator.h"
+#include "itkImageRegionIteratorWithIndex.h"
+#include "itkImageSource.h"
+#include "PointBasedDRRTestHelpers.h"
+
+#include "gtest/gtest.h"
+
+#include <limits>
+
+namespace
+{
+using namespace PointBasedDRRTest;
+using ProjectionEnum = itk::PointBasedDRREnums::Projection;
+using LabelImageType = itk::Image<uint16_t, 3>;
+using StageType = itk::DRRImageToAttenuationVolumeFilter<HUVolumeType>;
+using ExactType = itk::ExactDRRImageFilter<HUVolumeType, ProjectionType>;
+using PointType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
+
+/** An image source that generates only the region requested of it, from an image in memory, and records each
+ * request: a stand-in for a streaming reader. */
+template <typename TImage>
+class RecordingSource : public itk::ImageSource<TImage>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(RecordingSource);
+  using Self = RecordingSource;
+  using Superclass = itk::ImageSource<TImage>;
+  using Pointer = itk::SmartPointer<Self>;
+  itkNewMacro(Self);
+
+  typename TImage::ConstPointer            Image;
+  std::vector<typename TImage::RegionType> Requests;
+
+protected:
+  RecordingSource() = default;
+  void
+  GenerateOutputInformation() override
+  {
+    this->GetOutput()->CopyInformation(Image);
+  }
+  void
+  GenerateData() override
+  {
+    TImage *   output = this->GetOutput();
+    const auto region = output->GetRequestedRegion();
+    Requests.push_back(region);
+    output->SetBufferedRegion(region);
+    output->Allocate();
+    itk::ImageRegionConstIterator<TImage> in(Image, region);
+    itk::ImageRegionIterator<TImage>      out(output, region);
+    for (; !in.IsAtEnd(); ++in, ++out)
+    {
+      out.Set(in.Get());
+    }
+  }
+};
+
+/** 19 x 17 x 45 voxels, rotated and anisotropic: an ellipsoid of random HU levels in air (several brick planes deep,
+ * so that the point filter makes several slabs). */
+HUVolumeType::Pointer
+MakeVolumeOfLevels()
+{
+  HUVolumeType::SpacingType spacing;
+  spacing[0] = 1.0;
+  spacing[1] = 1.2;
+  spacing[2] = 0.8;
+  HUVolumeType::PointType origin;
+  origin[0] = -9.0;
+  origin[1] = -11.0;
+  origin[2] = -17.0;
+  auto volume =
+    MakeVolume<HUVolumeType>({ { 19, 17, 45 } }, spacing, origin, RotationMatrix(Vec(2.0 / 3, 1.0 / 3, 2.0 / 3), 20.0));
+  const short  levels[6] = { -900, -300, 0, 60, 700, 1800 };
+  unsigned int state = 2024u;
+  for (itk::ImageRegionIteratorWithIndex<HUVolumeType> it(volume, volume->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    const auto   index = it.GetIndex();
+    const double x = (index[0] - 9.0) / 8.5, y = (index[1] - 8.0) / 7.5, z = (index[2] - 22.0) / 20.0;
+    state = state * 1664525u + 1013904223u;
+    it.Set(x * x + y * y + z * z <= 1.0 ? levels[(state >> 8) % 6] : static_cast<short>(-1000));
+  }
+  return volume;
+}
+
+/** Labels on the volume's grid: 0 outside the ellipsoid, 1 to 4 by octant-like zones, 7 in the top planes alone. */
+LabelImageType::Pointer
+MakeLabels(const HUVolumeType * volume)
+{
+  auto labels = LabelImageType::New();
+  labels->CopyInformation(volume);
+  labels->SetRegions(volume->GetLargestPossibleRegion());
+  labels->Allocate();
+  for (itk::ImageRegionIteratorWithIndex<LabelImageType> it(labels, labels->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    const auto index = it.GetIndex();
+    const bool inside = volume->GetPixel(index) > -1000;
+    it.Set(!inside ? 0 : index[2] >= 40 ? 7 : static_cast<uint16_t>(1 + (index[0] > 9) + 2 * (index[1] > 8)));
+  }
+  return labels;
+}
+
+/** The same labels on a coarser grid of its own (2 mm, shifted): resampled onto the volume by nearest neighbour. */
+LabelImageType::Pointer
+MakeOffGridLabels(const HUVolumeType * volume)
+{
+  auto labels = LabelImageType::New();
+  labels->SetRegions(LabelImageType::SizeType{ { 14, 14, 24 } });
+  LabelImageType::SpacingType spacing;
+  spacing.Fill(2.0);
+  labels->SetSpacing(spacing);
+  labels->SetOrigin(Pt(-14.0, -15.0, -22.0));
+  labels->Allocate();
+  for (itk::ImageRegionIteratorWithIndex<LabelImageType> it(labels, labels->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    const auto index = it.GetIndex();
+    it.Set(static_cast<uint16_t>(1 + (index[0] + index[1] + index[2]) % 4));
+  }
+  (void)volume;
+  return labels;
+}
+
+itk::DRRProjectionGeometry::Pointer
+MakeView(ProjectionEnum projection)
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetProjection(projection);
+  geometry->SetSourceToIsocenterDistance(300.0);
+  geometry->SetSourceToDetectorDistance(500.0);
+  geometry->SetGantryAngleInDegrees(35.0);
+  geometry->SetDetectorSize({ { 34, 30 } });
+  itk::Vector<double, 2> spacing;
+  spacing[0] = 1.3;
+  spacing[1] = 1.1;
+  geometry->SetDetectorSpacing(spacing);
+  return geometry;
+}
+
+/** The rows of mu of a model, x fastest. */
+std::vector<float>
+MuOf(const itk::DRRAttenuationVolume & model)
+{
+  const auto         size = model.GetSize();
+  std::vector<float> mu(model.GetNumberOfVoxels());
+  for (uint64_t k = 0; k < size[2]; ++k)
+  {
+    for (uint64_t j = 0; j < size[1]; ++j)
+    {
+      model.FillMuRow(0, j, k, size[0], mu.data() + (k * size[1] + j) * size[0]);
+    }
+  }
+  return mu;
+}
+
+struct Selection
+{
+  itk::DRRLabelSelection::LabelListType Kept;
+  itk::DRRLabelSelection::LabelListType Dropped;
+};
+
+const std::vector<Selection> selections{ { {}, { 2 } }, { { 1, 4, 7 }, {} }, { { 1, 3 }, { 3 } } };
+
+// The stage's model of a slab is the whole volume's model of those planes, bit for bit: its mu (labels applied, on the
+// volume's grid or resampled), its materials, its grid; and it holds the slab alone.
+TEST(DRRStreamedLabels, TheStagesSlabIsTheWholeModelsPlanesBitForBit)
+{
+  const auto volume = MakeVolumeOfLevels();
+  for (const bool onGrid : { true, false })
+  {
+    const auto labels = onGrid ? MakeLabels(volume) : MakeOffGridLabels(volume);
+    for (const auto & selection : selections)
+    {
+      if (!onGrid && selection.Kept.size() == 3)
+      {
+        continue; // label 7 is the on-grid labels' alone
+      }
+      auto stage = StageType::New();
+      stage->SetInput(volume);
+      stage->SetLabelImage(labels);
+      stage->SetKeptLabels(selection.Kept);
+      stage->SetDroppedLabels(selection.Dropped);
+      stage->Update();
+      const std::vector<float> whole = MuOf(*stage->GetOutput());
+      const auto               wholeOrigin = stage->GetOutput()->GetOrigin();
+      const size_t             plane = 19 * 17;
+      for (const auto & slab : { std::make_pair(0, 8), std::make_pair(8, 13), std::make_pair(21, 24) })
+      {
+        auto region = volume->GetLargestPossibleRegion();
+        region.SetIndex(2, slab.first);
+        region.SetSize(2, slab.second);
+        itk::DRRAttenuationVolume * model = stage->GetOutput();
+        model->SetRequestedRegion(region);
+        model->Update();
+        EXPECT_EQ(model->GetBufferedRegion(), region);
+        ASSERT_EQ(model->GetNumberOfVoxels(), plane * slab.second);
+        const std::vector<float> mu = MuOf(*model);
+        for (size_t v = 0; v < mu.size(); ++v)
+        {
+          ASSERT_EQ(mu[v], whole[plane * slab.first + v])
+            << (onGrid ? "on grid" : "resampled") << ", slab at " << slab.first << ", voxel " << v;
+        }
+        HUVolumeType::PointType first;
+        volume->TransformIndexToPhysicalPoint(region.GetIndex(), first);
+        EXPECT_LT(first.EuclideanDistanceTo(model->GetOrigin()), 1e-9);
+        EXPECT_EQ(model->GetIndexToPhysicalMatrix(), stage->GetOutput()->GetIndexToPhysicalMatrix());
+      }
+      stage->UpdateLargestPossibleRegion();
+      EXPECT_EQ(stage->GetOutput()->GetOrigin(), wholeOrigin);
+      EXPECT_EQ(MuOf(*stage->GetOutput()), whole);
+    }
+  }
+}
+
+/** Two materials (air below -500 HU, water above). */
+itk::DRRMaterialTable::Pointer
+AirAndWater()
+{
+  auto         table = itk::DRRMaterialTable::New();
+  const double inf = std::numeric_limits<double>::infinity();
+  table->AddMaterial(-inf, -500.0, "Air, Dry (near sea level)", 0.0, 0.0);
+  table->AddMaterial(-500.0, inf, "Water, Liquid", 1.0, 1.0);
+  return table;
+}
+
+// The exact filter streams kept and dropped labels (on the volume's grid, read slab by slab from a streaming source,
+// or resampled) and material channels: the streamed image is the unstreamed one to rounding (the slabs' sums), and the
+// labels change it.
+TEST(DRRStreamedLabels, TheExactFilterStreamsLabelsAndMaterialChannels)
+{
+  const auto volume = MakeVolumeOfLevels();
+  const auto geometry = MakeView(ProjectionEnum::Perspective);
+  for (const bool onGrid : { true, false })
+  {
+    const auto labels = onGrid ? MakeLabels(volume) : MakeOffGridLabels(volume);
+    for (const auto & selection : selections)
+    {
+      if (!onGrid && selection.Kept.size() == 3)
+      {
+        continue;
+      }
+      auto       labelSource = RecordingSource<LabelImageType>::New();
+      const auto render = [&](unsigned int slabs, bool withLabels) {
+        auto exact = ExactType::New();
+        exact->SetInput(volume);
+        exact->SetGeometry(geometry);
+        if (withLabels)
+        {
+          labelSource->Image = labels;
+          exact->SetLabelImage(slabs > 1 ? labelSource->GetOutput() : labels.GetPointer());
+          exact->SetKeptLabels(selection.Kept);
+          exact->SetDroppedLabels(selection.Dropped);
+        }
+        exact->SetNumberOfStreamDivisions(slabs);
+        exact->Update();
+        return ToVector(exact->GetOutput());
+      };
+      const auto   whole = render(1, true);
+      const auto   unlabelled = render(1, false);
+      const double largest = *std::max_element(unlabelled.begin(), unlabelled.end());
+      ASSERT_GT(largest, 0.3);
+      EXPECT_GT(std::inner_product(whole.begin(),
+                                   whole.end(),
+                                   unlabelled.begin(),
+                                   0.0,
+                                   std::plus<>(),
+                                   [](double a, double b) { return std::abs(a - b); }),
+                0.1 * largest);
+      for (const unsigned int slabs : { 2u, 3u, 7u })
+      {
+        labelSource = RecordingSource<LabelImageType>::New();
+        const auto streamed = render(slabs, true);
+        ASSERT_EQ(streamed.size(), whole.size());
+        for (size_t p = 0; p < whole.size(); ++p)
+        {
+          ASSERT_NEAR(streamed[p], whole[p], 1e-6 * largest) << slabs << " slabs, pixel " << p;
+        }
+        // Labels on the volume's grid are read slab by slab, as the volume; others whole, once.
+        ASSERT_EQ(labelSource->Requests.size(), onGrid ? slabs : 1u);
+        EXPECT_EQ(labelSource->Requests.front().GetSize()[2], onGrid ? 45u / slabs : 24u);
+      }
+    }
+  }
+  // Material channels: the slabs' channel images add up.
+  const auto materials = [&](unsigned int slabs) {
+    auto exact = ExactType::New();
+    exact->SetInput(volume);
+    exact->SetGeometry(geometry);
+    exact->GetTransferFunction()->SetMaterialTable(AirAndWater());
+    exact->SetMaterialChannels(true);
+    exact->SetNumberOfStreamDivisions(slabs);
+    exact->Update();
+    const auto * channels = exact->GetChannelOutput();
+    EXPECT_EQ(channels->GetNumberOfComponentsPerPixel(), 2u);
+    const float * values = channels->GetBufferPointer();
+    return std::vector<double>(values, values + 2 * channels->GetBufferedRegion().GetNumberOfPixels());
+  };
+  const auto whole = materials(1);
+  const auto streamed = materials(3);
+  ASSERT_EQ(streamed.size(), whole.size());
+  const double largest = *std::max_element(whole.begin(), whole.end());
+  ASSERT_GT(largest, 0.3);
+  for (size_t c = 0; c < whole.size(); ++c)
+  {
+    ASSERT_NEAR(streamed[c], whole[c], 1e-6 * largest) << "channel value " << c;
+  }
+}
+
+// The point filter streams kept and dropped labels with the stratified sampler: the same points as the unstreamed
+// render, so the same image and standard error bit for bit.
+TEST(DRRStreamedLabels, ThePointFilterStreamsLabelsBitForBit)
+{
+  const auto volume = MakeVolumeOfLevels();
+  for (const bool onGrid : { true, false })
+  {
+    const auto labels = onGrid ? MakeLabels(volume) : MakeOffGridLabels(volume);
+    for (const auto & selection : selections)
+    {
+      if (!onGrid && selection.Kept.size() == 3)
+      {
+        continue;
+      }
+      for (const unsigned int factor : { 0u, 4u })
+      {
+        const auto render = [&](unsigned int slabs) {
+          auto drr = PointType::New();
+          drr->SetInput(volume);
+          drr->SetGeometry(MakeView(ProjectionEnum::Parallel));
+          drr->SetLabelImage(labels);
+          drr->SetKeptLabels(selection.Kept);
+          drr->SetDroppedLabels(selection.Dropped);
+          drr->SetNumberOfSamples(100000);
+          drr->SetSeed(17);
+          drr->SetControlVariateFactor(factor);
+          drr->SetNumberOfStreamDivisions(slabs);
+          drr->Update();
+          EXPECT_EQ(drr->GetNumberOfSlabs(), std::min(slabs, 6u));
+          return std::make_pair(ToVector(drr->GetOutput()), ToVector(drr->GetStandardErrorOutput()));
+        };
+        const auto whole = render(1);
+        ASSERT_GT(*std::max_element(whole.first.begin(), whole.first.end()), 0.1);
+        for (const unsigned int slabs : { 2u, 3u })
+        {
+          const auto streamed = render(slabs);
+          ASSERT_EQ(streamed.first.size(), whole.first.size());
+          for (size_t p = 0; p < whole.first.size(); ++p)
+          {
+            ASSERT_EQ(streamed.first[p], whole.first[p]) << "F " << factor << ", " << slabs << " slabs, pixel " << p;
+            ASSERT_EQ(streamed.second[p], whole.second[p]) << "F " << factor << ", " << slabs << " slabs, pixel " << p;
+          }
+        }
+      }
+    }
+  }
+}
+
+// What does not stream is refused by name, and a kept label in no slab is refused as in no voxel of the whole volume.
+TEST(DRRStreamedLabels, WhatCannotStreamIsRefusedByName)
+{
+  const auto volume = MakeVolumeOfLevels();
+  const auto labels = MakeLabels(volume);
+  auto       exact = ExactType::New();
+  exact->SetInput(volume);
+  exact->SetGeometry(MakeView(ProjectionEnum::Perspective));
+  exact->SetLabelImage(labels);
+  exact->SetNumberOfStreamDivisions(3);
+  exact->SetKeptLabels({ 1, 9 });
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { exact->Update(); }, "kept 9"), "the kept label 9 is in no voxel"));
+  exact->SetKeptLabels({ 7 });
+  exact->SetDroppedLabels({ 7 });
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { exact->Update(); }, "none left"), "leave no label to render"));
+  exact->SetKeptLabels({});
+  exact->SetDroppedLabels({});
+  exact->SetLabelChannels(true);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { exact->Update(); }, "label channels"), "no label channels"));
+  exact->SetLabelChannels(false);
+  EXPECT_NO_THROW(exact->Update());
+
+  auto points = PointType::New();
+  points->SetInput(volume);
+  points->SetGeometry(MakeView(ProjectionEnum::Perspective));
+  points->SetNumberOfStreamDivisions(2);
+  points->GetTransferFunction()->SetMaterialTable(AirAndWater());
+  points->SetMaterialChannels(true);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { points->Update(); }, "point material channels"), "no material channels"));
+
+  // The stage refuses a slab of label channels, and a region of other than whole z planes.
+  auto stage = StageType::New();
+  stage->SetInput(volume);
+  stage->SetLabelImage(labels);
+  stage->SetLabelChannels(true);
+  auto slab = volume->GetLargestPossibleRegion();
+  slab.SetSize(2, 4);
+  stage->GetOutput()->SetRequestedRegion(slab);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { stage->Update(); }, "slab channels"), "label channels need the whole"));
+  stage->SetLabelChannels(false);
+  slab.SetSize(0, 5);
+  stage->GetOutput()->SetRequestedRegion(slab);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { stage->Update(); }, "part planes"), "is not whole z planes"));
+}
+} // namespace
