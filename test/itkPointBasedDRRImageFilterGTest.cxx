@@ -1360,6 +1360,40 @@ TEST(PointBasedDRRReuse, ASamplerReplacedByAnotherOfTheSameTypeIsInitializedAndD
   }
 }
 
+// A sampler's own setting changed in place (the level sampler's bins of a continuous volume) makes its tables, and the
+// kept points, anew: the image is that of a fresh filter whose sampler had the setting from the start.
+TEST(PointBasedDRRReuse, ASamplerSettingChangedInPlaceRemakesItsTables)
+{
+  const auto volume = MakePhantom<MuVolumeType>(true);
+  using PointType = itk::PointBasedDRRImageFilter<MuVolumeType, ProjectionType>;
+  const auto make = [&](itk::DRRLevelSampler * sampler, bool reuse) {
+    auto drr = PointType::New();
+    drr->SetInput(volume);
+    drr->GetTransferFunction()->SetMode(itk::PointBasedDRREnums::TransferFunction::Identity);
+    drr->SetGeometry(MakeGeometry(ProjectionEnum::Perspective, 8, 6, 7.0, 8.0));
+    drr->SetNumberOfSamples(20000);
+    drr->SetReusePoints(reuse);
+    drr->SetSampler(sampler);
+    return drr;
+  };
+  for (const bool reuse : { false, true })
+  {
+    auto sampler = itk::DRRLevelAliasSampler::New();
+    auto drr = make(sampler, reuse);
+    drr->Update();
+    const auto manyBins = ToVector(drr->GetOutput());
+    sampler->SetNumberOfBins(3);
+    drr->Update();
+    auto fresh = itk::DRRLevelAliasSampler::New();
+    fresh->SetNumberOfBins(3);
+    auto freshFilter = make(fresh, reuse);
+    freshFilter->Update();
+    EXPECT_EQ(sampler->GetNumberOfLevels(), fresh->GetNumberOfLevels()) << "reuse " << reuse;
+    EXPECT_EQ(ToVector(drr->GetOutput()), ToVector(freshFilter->GetOutput())) << "reuse " << reuse;
+    EXPECT_NE(ToVector(drr->GetOutput()), manyBins) << "reuse " << reuse << ": 3 bins draw other points";
+  }
+}
+
 /** An image source that generates only the region requested of it, from a volume in memory, and records each request:
  * a stand-in for a streaming reader. */
 class RegionRecordingSource : public itk::ImageSource<HUVolumeType>
