@@ -351,6 +351,25 @@ private:
   PoseType
   GlobalStart(unsigned int k) const;
 
+  /** Gives the metric the volume, the X-rays and the start pose (a default Euler3DTransform about the CT's centre). */
+  void
+  PrepareMetric();
+  /** Sets the metric to a level's shrink, points and smoothing; the start similarity at level 0. */
+  void
+  InitializeLevel(unsigned int level, uint64_t metricSamples);
+  /** The optimizer's units per parameter, mm of the points' motion (empty without automatic scales). */
+  Array<double>
+  ComputeParameterUnits() const;
+  /** Searches a level (from several starts on the first), leaves the metric at its best pose and reports it. */
+  void
+  RegisterLevel(unsigned int                          level,
+                OptimizerType *                       optimizer,
+                DeadlineMetric &                      watched,
+                std::chrono::steady_clock::time_point deadline);
+  /** The final DRRs, fields and similarity: full resolution, unsmoothed, the last level's points. */
+  void
+  MakeFinalImages();
+
   /** Runs the optimizer on the metric from its transform's parameters; returns the best parameters evaluated. */
   typename MetricType::ParametersType
   Optimize(OptimizerType * optimizer, DeadlineMetric * watched, double & bestValue);

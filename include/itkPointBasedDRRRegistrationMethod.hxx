@@ -449,119 +449,152 @@ template <typename TInputImage>
 void
 PointBasedDRRRegistrationMethod<TInputImage>::GenerateData()
 {
-  const InputImageType * volume = this->GetVolume();
-  const auto             begin = std::chrono::steady_clock::now();
-  const auto             deadline = m_MaximumTimeInSeconds > 0.0
-                                      ? begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+  const auto begin = std::chrono::steady_clock::now();
+  const auto deadline = m_MaximumTimeInSeconds > 0.0
+                          ? begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                       std::chrono::duration<double>(m_MaximumTimeInSeconds))
-                                      : std::chrono::steady_clock::time_point::max();
+                          : std::chrono::steady_clock::time_point::max();
   m_NumberOfEvaluations = 0;
   m_NumberOfDerivativeEvaluations = 0;
   m_StoppedByTimeLimit = false;
   m_FinalDRRs.clear();
   m_FinalMasks.clear();
-
-  MetricType * metric = m_Metric;
-  metric->SetVolume(volume);
-  metric->RemoveAllXRays();
-  for (unsigned int x = 0; x < m_XRayGeometries.size(); ++x)
-  {
-    metric->AddXRay(this->GetXRayImage(x), m_XRayGeometries[x]);
-  }
-  metric->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  if (!metric->GetModifiableMovingTransform())
-  {
-    auto moving = Euler3DTransform<double>::New();
-    moving->SetCenter(GeometryType::ComputeImageCenter(volume));
-    metric->SetMovingTransform(moving);
-  }
-  this->SetMovingTransformToPose(m_StartPose);
-  const uint64_t metricSamples = metric->GetNumberOfSamples();
-
+  this->PrepareMetric();
+  const uint64_t                  metricSamples = m_Metric->GetNumberOfSamples();
   typename OptimizerType::Pointer optimizer = m_Optimizer;
   if (!optimizer)
   {
-    optimizer = MakeOptimizer(metric->GetExactRaysPerPixelSide() > 0 ? "powell" : DefaultOptimizerName);
+    optimizer = MakeOptimizer(m_Metric->GetExactRaysPerPixelSide() > 0 ? "powell" : DefaultOptimizerName);
   }
-  auto       watched = DeadlineMetric::New();
-  const auto account = [&]() {
-    m_NumberOfEvaluations += watched->GetEvaluations();
-    m_NumberOfDerivativeEvaluations += watched->GetDerivativeEvaluations();
-    m_StoppedByTimeLimit = m_StoppedByTimeLimit || watched->GetTimeIsUp();
-  };
+  auto watched = DeadlineMetric::New();
   for (unsigned int level = 0; level < m_ShrinkFactorsPerLevel.size() && !m_StoppedByTimeLimit; ++level)
   {
-    const unsigned int shrink = m_ShrinkFactorsPerLevel[level];
-    metric->SetDetectorShrinkFactor(shrink);
-    metric->SetNumberOfSamples(m_NumberOfSamplesPerLevel.empty() ? metricSamples : m_NumberOfSamplesPerLevel[level]);
-    metric->SetSmoothingSigma(m_SmoothingSigmasPerLevel.empty() ? 0.0 : m_SmoothingSigmasPerLevel[level]);
-    metric->Initialize();
-    Array<double> units;
-    if (m_AutomaticParameterScales)
-    {
-      const auto scales = metric->ComputeParameterScales();
-      units.SetSize(scales.GetSize());
-      for (unsigned int j = 0; j < scales.GetSize(); ++j)
-      {
-        units[j] = std::sqrt(std::max(scales[j], 1e-12));
-      }
-    }
-    if (level == 0)
-    {
-      m_StartSimilarity = -metric->GetValue(); // outside the search and its time limit
-    }
-    watched->Watch(metric, units, deadline);
-    // The global stage on the first level: the best end of several starts goes on. If nothing was evaluated (the
-    // time limit), the level's start stands: an optimizer may have moved the transform on values it was not given.
-    const unsigned int                  starts = level == 0 ? m_NumberOfStarts : 1;
-    double                              best = std::numeric_limits<double>::infinity();
-    typename MetricType::ParametersType levelStart = metric->GetParameters();
-    typename MetricType::ParametersType bestParameters = levelStart;
-    SizeValueType                       levelEvaluations = 0;
-    for (unsigned int k = 0; k < starts && !watched->GetTimeIsUp(); ++k)
-    {
-      if (k > 0)
-      {
-        account();
-        levelEvaluations += watched->GetEvaluations();
-        this->SetMovingTransformToPose(this->GlobalStart(k));
-        watched->Watch(metric, units, deadline);
-      }
-      double                                    value = best;
-      const typename MetricType::ParametersType found = this->Optimize(optimizer, watched, value);
-      if (value < best)
-      {
-        best = value;
-        bestParameters = found;
-      }
-    }
-    account();
-    levelEvaluations += watched->GetEvaluations();
-    metric->SetParameters(std::isfinite(best) ? bestParameters : levelStart);
-    m_CurrentLevel = level;
-    m_CurrentShrinkFactor = shrink;
-    m_CurrentLevelSimilarity = -best;
-    m_CurrentLevelEvaluations = levelEvaluations;
-    m_CurrentPose = this->PoseOfMovingTransform();
-    this->InvokeEvent(IterationEvent());
-    this->UpdateProgress(static_cast<float>(level + 1) / static_cast<float>(m_ShrinkFactorsPerLevel.size()));
+    this->InitializeLevel(level, metricSamples);
+    this->RegisterLevel(level, optimizer, *watched, deadline);
   }
   m_Pose = this->PoseOfMovingTransform();
+  this->MakeFinalImages();
+  m_Metric->SetNumberOfSamples(metricSamples);
+  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
+  output->Set(MakePoseTransform(this->GetVolume(), m_Pose));
+  m_ElapsedSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+}
 
-  // The final DRRs and similarity, at full resolution, unsmoothed, with the last level's points.
-  metric->SetDetectorShrinkFactor(1);
-  metric->SetSmoothingSigma(0.0);
-  metric->Initialize();
-  m_Similarity = -metric->GetValue();
+template <typename TInputImage>
+void
+PointBasedDRRRegistrationMethod<TInputImage>::PrepareMetric()
+{
+  const InputImageType * volume = this->GetVolume();
+  m_Metric->SetVolume(volume);
+  m_Metric->RemoveAllXRays();
   for (unsigned int x = 0; x < m_XRayGeometries.size(); ++x)
   {
-    m_FinalDRRs.push_back(metric->ComputeDRR(x));
-    m_FinalMasks.push_back(metric->GetField(x));
+    m_Metric->AddXRay(this->GetXRayImage(x), m_XRayGeometries[x]);
   }
-  metric->SetNumberOfSamples(metricSamples);
-  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-  output->Set(MakePoseTransform(volume, m_Pose));
-  m_ElapsedSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  m_Metric->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  if (!m_Metric->GetModifiableMovingTransform())
+  {
+    auto moving = Euler3DTransform<double>::New();
+    moving->SetCenter(GeometryType::ComputeImageCenter(volume));
+    m_Metric->SetMovingTransform(moving);
+  }
+  this->SetMovingTransformToPose(m_StartPose);
+}
+
+template <typename TInputImage>
+void
+PointBasedDRRRegistrationMethod<TInputImage>::InitializeLevel(unsigned int level, uint64_t metricSamples)
+{
+  m_Metric->SetDetectorShrinkFactor(m_ShrinkFactorsPerLevel[level]);
+  m_Metric->SetNumberOfSamples(m_NumberOfSamplesPerLevel.empty() ? metricSamples : m_NumberOfSamplesPerLevel[level]);
+  m_Metric->SetSmoothingSigma(m_SmoothingSigmasPerLevel.empty() ? 0.0 : m_SmoothingSigmasPerLevel[level]);
+  m_Metric->Initialize();
+  if (level == 0)
+  {
+    m_StartSimilarity = -m_Metric->GetValue(); // outside the search and its time limit
+  }
+}
+
+template <typename TInputImage>
+Array<double>
+PointBasedDRRRegistrationMethod<TInputImage>::ComputeParameterUnits() const
+{
+  Array<double> units;
+  if (m_AutomaticParameterScales)
+  {
+    const auto scales = m_Metric->ComputeParameterScales();
+    units.SetSize(scales.GetSize());
+    for (unsigned int j = 0; j < scales.GetSize(); ++j)
+    {
+      units[j] = std::sqrt(std::max(scales[j], 1e-12));
+    }
+  }
+  return units;
+}
+
+template <typename TInputImage>
+void
+PointBasedDRRRegistrationMethod<TInputImage>::RegisterLevel(unsigned int                          level,
+                                                            OptimizerType *                       optimizer,
+                                                            DeadlineMetric &                      watched,
+                                                            std::chrono::steady_clock::time_point deadline)
+{
+  const Array<double> units = this->ComputeParameterUnits();
+  const auto          account = [&]() {
+    m_NumberOfEvaluations += watched.GetEvaluations();
+    m_NumberOfDerivativeEvaluations += watched.GetDerivativeEvaluations();
+    m_StoppedByTimeLimit = m_StoppedByTimeLimit || watched.GetTimeIsUp();
+    return watched.GetEvaluations();
+  };
+  watched.Watch(m_Metric, units, deadline);
+  // The global stage on the first level: the best end of several starts goes on. If nothing was evaluated (the
+  // time limit), the level's start stands: an optimizer may have moved the transform on values it was not given.
+  const unsigned int                  starts = level == 0 ? m_NumberOfStarts : 1;
+  double                              best = std::numeric_limits<double>::infinity();
+  typename MetricType::ParametersType levelStart = m_Metric->GetParameters();
+  typename MetricType::ParametersType bestParameters = levelStart;
+  SizeValueType                       levelEvaluations = 0;
+  for (unsigned int k = 0; k < starts && !watched.GetTimeIsUp(); ++k)
+  {
+    if (k > 0)
+    {
+      levelEvaluations += account();
+      this->SetMovingTransformToPose(this->GlobalStart(k));
+      watched.Watch(m_Metric, units, deadline);
+    }
+    double                                    value = best;
+    const typename MetricType::ParametersType found = this->Optimize(optimizer, &watched, value);
+    if (value < best)
+    {
+      best = value;
+      bestParameters = found;
+    }
+  }
+  levelEvaluations += account();
+  m_Metric->SetParameters(std::isfinite(best) ? bestParameters : levelStart);
+  m_CurrentLevel = level;
+  m_CurrentShrinkFactor = m_ShrinkFactorsPerLevel[level];
+  m_CurrentLevelSimilarity = -best;
+  m_CurrentLevelEvaluations = levelEvaluations;
+  m_CurrentPose = this->PoseOfMovingTransform();
+  this->InvokeEvent(IterationEvent());
+  this->UpdateProgress(static_cast<float>(level + 1) / static_cast<float>(m_ShrinkFactorsPerLevel.size()));
+}
+
+template <typename TInputImage>
+void
+PointBasedDRRRegistrationMethod<TInputImage>::MakeFinalImages()
+{
+  // The final DRRs and similarity, at full resolution, unsmoothed, with the last level's points.
+  m_Metric->SetDetectorShrinkFactor(1);
+  m_Metric->SetSmoothingSigma(0.0);
+  m_Metric->Initialize();
+  m_Similarity = -m_Metric->GetValue();
+  for (unsigned int x = 0; x < m_XRayGeometries.size(); ++x)
+  {
+    m_FinalDRRs.push_back(m_Metric->ComputeDRR(x));
+    m_FinalMasks.push_back(m_Metric->GetField(x));
+  }
 }
 
 template <typename TInputImage>
