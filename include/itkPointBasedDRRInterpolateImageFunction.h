@@ -246,8 +246,21 @@ private:
   /** Renders the projection for the current pose if it is stale (thread-safe). */
   void
   UpdateProjection() const;
+  /** Renders the projection for the current transform and keeps it for Evaluate(). */
   void
   Render() const;
+  /** The filter's transfer function: max(0, value - Threshold). */
+  void
+  SetThresholdTransferFunction() const;
+  /** The inverse of the transform's affine map: CT points back to the room. */
+  void
+  ComputeVolumeToRoom() const;
+  /** Builds the automatic detector anew if the volume's bounding sphere moved out of it. */
+  void
+  FitAutomaticDetector(const InputImageType & input) const;
+  /** Keeps the projection and the geometry Evaluate() reads. */
+  void
+  KeepProjection() const;
   /** The automatic virtual detector for the current pose; true if the current one still covers the volume. */
   bool
   AutomaticDetectorCovers(const PointType & centreInRoom, double radius) const;

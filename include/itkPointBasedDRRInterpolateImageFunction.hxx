@@ -200,18 +200,43 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::Render() const
   }
   if (m_AttenuationFromThreshold)
   {
-    // max(0, value - threshold): zero up to the threshold, slope 1 far beyond any CT value.
-    constexpr double                         span = 1e9;
-    const DRRTransferFunction::PointListType points{ { m_Threshold, 0.0 }, { m_Threshold + span, span } };
-    DRRTransferFunction *                    transfer = m_Filter->GetTransferFunction();
-    if (transfer->GetMode() != PointBasedDRREnums::TransferFunction::PiecewiseLinear ||
-        transfer->GetPiecewiseLinearPoints() != points)
-    {
-      transfer->SetPiecewiseLinearPoints(points);
-    }
+    this->SetThresholdTransferFunction();
   }
   m_Filter->SetTransform(m_Transform);
+  this->ComputeVolumeToRoom();
+  if (m_AutomaticDetector)
+  {
+    this->FitAutomaticDetector(*input);
+  }
+  else if (!m_Geometry)
+  {
+    itkExceptionMacro("no detector geometry");
+  }
+  m_Filter->SetGeometry(m_Geometry);
+  m_Filter->Update();
+  ++m_NumberOfRenders;
+  this->KeepProjection();
+}
 
+template <typename TInputImage, typename TCoordinate>
+void
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::SetThresholdTransferFunction() const
+{
+  // max(0, value - threshold): zero up to the threshold, slope 1 far beyond any CT value.
+  constexpr double                         span = 1e9;
+  const DRRTransferFunction::PointListType points{ { m_Threshold, 0.0 }, { m_Threshold + span, span } };
+  DRRTransferFunction *                    transfer = m_Filter->GetTransferFunction();
+  if (transfer->GetMode() != PointBasedDRREnums::TransferFunction::PiecewiseLinear ||
+      transfer->GetPiecewiseLinearPoints() != points)
+  {
+    transfer->SetPiecewiseLinearPoints(points);
+  }
+}
+
+template <typename TInputImage, typename TCoordinate>
+void
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::ComputeVolumeToRoom() const
+{
   // The transform's affine map room -> CT, inverted: Evaluate() takes CT points back to the room.
   InputPointType zero;
   zero.Fill(0.0);
@@ -233,55 +258,55 @@ PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::Render() const
     m_VolumeToRoomOffset[r] = -(m_VolumeToRoomMatrix[r][0] * image0[0] + m_VolumeToRoomMatrix[r][1] * image0[1] +
                                 m_VolumeToRoomMatrix[r][2] * image0[2]);
   }
+}
 
-  if (m_AutomaticDetector)
+template <typename TInputImage, typename TCoordinate>
+void
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::FitAutomaticDetector(
+  const InputImageType & input) const
+{
+  // The volume's bounding sphere (voxel boxes included), in the room.
+  const auto                 region = input.GetLargestPossibleRegion();
+  ContinuousIndex<double, 3> centreIndex;
+  Vector<double, 3>          halfDiagonal;
+  for (unsigned int a = 0; a < 3; ++a)
   {
-    // The volume's bounding sphere (voxel boxes included), in the room.
-    const auto                 region = input->GetLargestPossibleRegion();
-    ContinuousIndex<double, 3> centreIndex;
-    double                     radius = 0.0;
-    Vector<double, 3>          halfDiagonal;
+    centreIndex[a] = region.GetIndex()[a] + (region.GetSize()[a] - 1.0) / 2.0;
+  }
+  PointType centre;
+  input.TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    halfDiagonal[r] = 0.0;
     for (unsigned int a = 0; a < 3; ++a)
     {
-      centreIndex[a] = region.GetIndex()[a] + (region.GetSize()[a] - 1.0) / 2.0;
-    }
-    PointType centre;
-    input->TransformContinuousIndexToPhysicalPoint(centreIndex, centre);
-    for (unsigned int r = 0; r < 3; ++r)
-    {
-      halfDiagonal[r] = 0.0;
-      for (unsigned int a = 0; a < 3; ++a)
-      {
-        halfDiagonal[r] += std::abs(input->GetDirection()[r][a]) * input->GetSpacing()[a] * region.GetSize()[a] / 2.0;
-      }
-    }
-    // Lengths in the room: at most the largest stretch of CT -> room (1 for a rigid transform).
-    radius = halfDiagonal.GetNorm() * m_VolumeToRoomMatrix.GetVnlMatrix().frobenius_norm() / std::sqrt(3.0);
-    radius = std::max(radius, halfDiagonal.GetNorm());
-    PointType centreInRoom;
-    for (unsigned int r = 0; r < 3; ++r)
-    {
-      centreInRoom[r] = m_VolumeToRoomOffset[r] + m_VolumeToRoomMatrix[r][0] * centre[0] +
-                        m_VolumeToRoomMatrix[r][1] * centre[1] + m_VolumeToRoomMatrix[r][2] * centre[2];
-    }
-    if (!this->AutomaticDetectorCovers(centreInRoom, radius))
-    {
-      if (m_Geometry)
-      {
-        itkWarningMacro("the volume moved out of the virtual detector: it is rebuilt for the current pose, which "
-                        "changes the projection's pixel grid");
-      }
-      this->BuildAutomaticDetector(centreInRoom, radius);
+      halfDiagonal[r] += std::abs(input.GetDirection()[r][a]) * input.GetSpacing()[a] * region.GetSize()[a] / 2.0;
     }
   }
-  else if (!m_Geometry)
+  // Lengths in the room: at most the largest stretch of CT -> room (1 for a rigid transform).
+  double radius = halfDiagonal.GetNorm() * m_VolumeToRoomMatrix.GetVnlMatrix().frobenius_norm() / std::sqrt(3.0);
+  radius = std::max(radius, halfDiagonal.GetNorm());
+  PointType centreInRoom;
+  for (unsigned int r = 0; r < 3; ++r)
   {
-    itkExceptionMacro("no detector geometry");
+    centreInRoom[r] = m_VolumeToRoomOffset[r] + m_VolumeToRoomMatrix[r][0] * centre[0] +
+                      m_VolumeToRoomMatrix[r][1] * centre[1] + m_VolumeToRoomMatrix[r][2] * centre[2];
   }
-  m_Filter->SetGeometry(m_Geometry);
-  m_Filter->Update();
-  ++m_NumberOfRenders;
+  if (!this->AutomaticDetectorCovers(centreInRoom, radius))
+  {
+    if (m_Geometry)
+    {
+      itkWarningMacro("the volume moved out of the virtual detector: it is rebuilt for the current pose, which "
+                      "changes the projection's pixel grid");
+    }
+    this->BuildAutomaticDetector(centreInRoom, radius);
+  }
+}
 
+template <typename TInputImage, typename TCoordinate>
+void
+PointBasedDRRInterpolateImageFunction<TInputImage, TCoordinate>::KeepProjection() const
+{
   m_Geometry->VerifyGeometry();
   m_Source = m_Geometry->GetSourcePosition();
   m_Normal = m_Geometry->GetNormal();
