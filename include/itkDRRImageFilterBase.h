@@ -276,6 +276,14 @@ public:
   unsigned int
   GetCurrentSlab() const;
 
+  /** Why the filter's settings cannot be streamed, empty if they can: a budget streams only what can be, and
+   * NumberOfStreamDivisions > 1 with settings that cannot is refused with this reason. The base's: no shared
+   * attenuation volume (it is whole already), no label channels, and material channels only if
+   * StreamsMaterialChannels(). Public, and asked of the settings alone (no input is needed), so that a program asks a
+   * configured filter before it reads the volume. */
+  virtual std::string
+  WhyNotStreamable() const;
+
   /** Bytes per voxel an unstreamed render holds: the input pixel and, as measured on the chest x2 and x4
    * (docs/performance.md), the filter's tables. */
   virtual double
@@ -316,12 +324,6 @@ protected:
    * streaming settings that stream (WhyNotStreamable()). */
   void
   VerifyPreconditions() const override;
-
-  /** Why the filter's settings cannot be streamed, empty if they can: a budget streams only what can be, and
-   * NumberOfStreamDivisions > 1 with settings that cannot is refused with this reason. The base's: an input volume
-   * (not a shared model), no label channels, and material channels only if StreamsMaterialChannels(). */
-  virtual std::string
-  WhyNotStreamable() const;
 
   /** True if the filter's streamed render adds up the slabs' material channels (a slab's channels are the whole
    * volume's: every material of the transfer function's table). False here: a filter says so. */

@@ -335,7 +335,7 @@ template <typename TInputImage, typename TOutputImage>
 std::string
 DRRImageFilterBase<TInputImage, TOutputImage>::WhyNotStreamable() const
 {
-  if (!this->GetInput())
+  if (this->GetSharedAttenuationVolume())
   {
     return "streaming reads the input volume slab by slab: a shared attenuation volume is already whole";
   }

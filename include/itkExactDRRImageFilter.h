@@ -75,6 +75,10 @@ public:
     return sizeof(typename TInputImage::PixelType) + 0.05;
   }
 
+  /** The base's reasons, and the tent kernel's (a tent voxel reaches into the next slab). */
+  std::string
+  WhyNotStreamable() const override;
+
 protected:
   ExactDRRImageFilter() = default;
   ~ExactDRRImageFilter() override = default;
@@ -82,9 +86,6 @@ protected:
   /** Integrates k x k rays per pixel through the volume (slab by slab when streaming) and writes the output. */
   void
   GenerateData() override;
-  /** The base's reasons, and the tent kernel's (a tent voxel reaches into the next slab). */
-  std::string
-  WhyNotStreamable() const override;
   /** True: the slabs' material channels add up like their images. */
   bool
   StreamsMaterialChannels() const override

@@ -295,6 +295,10 @@ public:
     return sizeof(typename TInputImage::PixelType) + 1.0;
   }
 
+  /** Streaming draws along the stratified sampler's curve: another sampler cannot stream. */
+  std::string
+  WhyNotStreamable() const override;
+
 protected:
   PointBasedDRRImageFilter();
   ~PointBasedDRRImageFilter() override = default;
@@ -306,9 +310,6 @@ protected:
   /** The settings' rules (VerifySettings()), beside the base's. */
   void
   VerifyPreconditions() const override;
-  /** Streaming draws along the stratified sampler's curve: another sampler cannot stream. */
-  std::string
-  WhyNotStreamable() const override;
   /** Whole brick planes, and whole coarse blocks of the streamed control variate: lcm(8, F). */
   uint64_t
   GetSlabAlignment() const override;

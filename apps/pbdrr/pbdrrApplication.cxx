@@ -52,6 +52,7 @@
 #include <iostream>
 #include <sstream>
 #include <sys/stat.h>
+#include <type_traits>
 #include <unistd.h>
 
 namespace pbdrr
@@ -263,9 +264,12 @@ MakeRenderer(const Options & options, const TVolume * volume)
     exact->SetRaysPerPixelSide(options.raysPerSide);
     renderer.Filter = exact.GetPointer();
   }
-  // pbdrr chooses the slabs itself (ChooseStreamSlabs()): before the load, which they decide.
+  // The filter decides the slabs (GetNumberOfSlabs()): --stream at least, more if the budget needs them.
   renderer.Filter->SetNumberOfStreamDivisions(options.stream);
-  renderer.Filter->SetMemoryBudget(0);
+  if (options.memoryBudget)
+  {
+    renderer.Filter->SetMemoryBudget(*options.memoryBudget);
+  }
   renderer.Filter->SetInput(volume);
   renderer.Filter->SetTransferFunction(MakeTransferFunction(options));
   ApplyLabelOptions(options, renderer.Filter.GetPointer());
@@ -281,6 +285,52 @@ template Renderer<HUVolumeType>
 MakeRenderer(const Options &, const HUVolumeType *);
 template Renderer<VolumeType>
 MakeRenderer(const Options &, const VolumeType *);
+
+template <typename TVolume>
+void
+VerifyRenderSettings(const Options & options, const Renderer<TVolume> & renderer)
+{
+  try
+  {
+    if (renderer.Points)
+    {
+      renderer.Points->VerifySettings();
+    }
+  }
+  catch (const itk::ExceptionObject & e)
+  {
+    throw UsageError(CleanMessage(e.GetDescription()));
+  }
+  const std::string why = options.stream > 1 ? renderer.Filter->WhyNotStreamable() : std::string();
+  if (!why.empty())
+  {
+    throw UsageError("--stream " + std::to_string(options.stream) + ": " + why);
+  }
+}
+
+template void
+VerifyRenderSettings(const Options &, const Renderer<HUVolumeType> &);
+template void
+VerifyRenderSettings(const Options &, const Renderer<VolumeType> &);
+
+template <typename TVolume>
+unsigned int
+AnnounceSlabs(const Options & options, const Renderer<TVolume> & renderer)
+{
+  const unsigned int slabs = renderer.Filter->GetNumberOfSlabs();
+  if (slabs > 1 && options.stream <= 1 && !options.quiet)
+  {
+    std::cerr << "pbdrr: the render of " << options.input << " would hold more than the memory budget ("
+              << static_cast<double>(renderer.Filter->GetMemoryBudget()) / 0x1p30
+              << " GiB, --memory-budget): streamed in " << slabs << " slabs" << std::endl;
+  }
+  return slabs;
+}
+
+template unsigned int
+AnnounceSlabs(const Options &, const Renderer<HUVolumeType> &);
+template unsigned int
+AnnounceSlabs(const Options &, const Renderer<VolumeType> &);
 
 ProjectionType::ConstPointer
 AddQuantumNoise(const Options & options, const ProjectionType * image, uint64_t seed)
@@ -396,71 +446,59 @@ OpenStreamedVolume(const std::string & input)
   return loaded;
 }
 
-/** The slabs a single view reads its CT in: --stream, or as many as --memory-budget (default: half the machine's
- * memory) needs for a CT file (not DICOM) whose unstreamed render would hold more, if its settings can be streamed
- * (the filter's own rule, DRRImageFilterBase::GetNumberOfSlabs(), asked of a filter given the file's header); 1
- * otherwise. Says why on stderr when it streams unasked. */
-unsigned int
-ChooseStreamSlabs(const Options & options)
+LoadedVolume
+OpenVolumeHeader(const Options & options)
 {
-  if (options.stream > 1)
-  {
-    return options.stream;
-  }
-  if (IsBatch(options) && (options.exact || options.independentViews))
-  {
-    return 1; // a streamed batch keeps the points: these read the CT at every view (RunBatch() says so if asked)
-  }
-  const uint64_t budget =
-    options.memoryBudget ? *options.memoryBudget : itk::DRRMemoryBudget::GetDefaultBudgetInBytes();
   struct stat status;
-  if (budget == 0 || stat(options.input.c_str(), &status) != 0 || S_ISDIR(status.st_mode))
+  if (stat(options.input.c_str(), &status) != 0 || S_ISDIR(status.st_mode))
   {
-    return 1;
+    return {};
   }
   auto io = itk::ImageIOFactory::CreateImageIO(options.input.c_str(), itk::ImageIOFactory::IOFileModeEnum::ReadMode);
   if (!io || dynamic_cast<itk::GDCMImageIO *>(io.GetPointer()))
   {
-    return 1; // not an image ITK reads (the load says so), or DICOM: read whole
+    return {}; // not an image ITK reads (the load says so), or DICOM: read whole
   }
-  unsigned int slabs = 1;
   try
   {
-    const LoadedVolume header = OpenStreamedVolume(options.input);
-    const auto         count = [&](const auto * volume) {
-      const auto renderer = MakeRenderer(options, volume);
-      renderer.Filter->SetMemoryBudget(budget);
-      return renderer.Filter->GetNumberOfSlabs();
-    };
-    slabs = header.Visit(count);
+    return OpenStreamedVolume(options.input);
   }
   catch (const std::exception &)
   {
-    return 1; // the load words what is wrong with the file
+    return {}; // the load words what is wrong with the file, after the settings' checks
   }
-  if (slabs > 1 && !options.quiet)
+}
+
+LoadedVolume
+LoadVolumeAfterHeader(const Options &      options,
+                      const LoadedVolume & header,
+                      bool                 streamed,
+                      const LoadProgress & progress)
+{
+  if (!streamed)
   {
-    std::cerr << "pbdrr: the render of " << options.input << " would hold more than the memory budget ("
-              << static_cast<double>(budget) / 0x1p30 << " GiB, --memory-budget): streamed in " << slabs << " slabs"
-              << std::endl;
+    return LoadVolume(options.input, options.seriesUID, progress);
   }
-  return slabs;
+  // --stream of what OpenVolumeHeader() did not open: a DICOM file, or OpenStreamedVolume()'s refusal.
+  return header.IsSet() ? header : OpenStreamedVolume(options.input);
 }
 
 namespace
 {
-/** Renders and writes the view of the options from a loaded volume (of its own pixel type: int16 HU or float). */
+/** Renders and writes the view of the options from a loaded volume (of its own pixel type: int16 HU or float), with
+ * the renderer given that volume and the view's geometry. */
 template <typename TVolume>
 void
 RenderView(const Options &                               options,
            const LoadedVolume &                          loaded,
            const TVolume *                               volume,
+           const Renderer<TVolume> &                     renderer,
+           itk::DRRProjectionGeometry *                  geometry,
            const itk::DRRXRaySpectrum *                  spectrum,
            std::vector<std::pair<std::string, double>> & stages)
 {
   const bool               chatty = !options.quiet;
   std::vector<std::string> notes;
-  const auto               geometry = MakeGeometry(options, volume);
   if (!options.projectionMatrixFile.empty())
   {
     CheckDetectorBeyondVolume(geometry, volume, 0.0, "--projection-matrix (--spacing DU)");
@@ -471,13 +509,12 @@ RenderView(const Options &                               options,
               << "\npbdrr: geometry: " << DescribeGeometry(geometry) << std::endl;
   }
 
-  const Renderer<TVolume>    renderer = MakeRenderer(options, volume);
   BaseFilterType<TVolume> *  filter = renderer.Filter;
   PointFilterType<TVolume> * pointBased = renderer.Points;
   filter->SetGeometry(geometry);
 
   auto start = Clock::now();
-  if (options.stream > 1)
+  if (filter->GetNumberOfSlabs() > 1)
   {
     // Streamed: each slab's model is built as the slab is read, in the render.
   }
@@ -570,6 +607,65 @@ RenderView(const Options &                               options,
               << geometryPath << std::endl;
   }
 }
+/** The single view: its geometry and the filter that renders it built once, before the load, from the CT's header
+ * (headerVolume; null for a DICOM series, whose values decide its pixel type as it is read), and asked whether their
+ * settings hold; then the CT, read whole or, if the filter reads it in slabs, left to the filter. */
+template <typename TVolume>
+void
+LoadAndRenderView(const Options &                               options,
+                  const LoadedVolume &                          header,
+                  const TVolume *                               headerVolume,
+                  const itk::DRRXRaySpectrum *                  spectrum,
+                  std::vector<std::pair<std::string, double>> & stages)
+{
+  // The view's checks (geometry file, SID against SAD) before the load; its isocenter the CT's centre if its header
+  // is read.
+  itk::DRRProjectionGeometry::Pointer geometry = MakeGeometry(options, headerVolume);
+  const Renderer<TVolume>             renderer = MakeRenderer(options, headerVolume);
+  VerifyRenderSettings(options, renderer);
+  if (!headerVolume)
+  {
+    renderer.Filter->SetMemoryBudget(0); // a DICOM series is read whole: no budget streams it
+  }
+  renderer.Filter->SetGeometry(geometry);
+  // --stream reads the file through its reader even where the filter makes one slab of it, as it always has.
+  const bool fromHeader = AnnounceSlabs(options, renderer) > 1 || options.stream > 1;
+
+  const bool         chatty = !options.quiet;
+  auto               start = Clock::now();
+  ProgressBar        loadProgress(chatty);
+  const LoadedVolume loaded = LoadVolumeAfterHeader(options, header, fromHeader, [&](size_t done, size_t total) {
+    loadProgress.ShowCount("reading DICOM files", done, total);
+  });
+  loadProgress.Finish();
+  stages.emplace_back("load", SecondsSince(start));
+  for (const auto & note : loaded.Notes)
+  {
+    if (chatty)
+    {
+      std::cerr << "pbdrr: " << note << std::endl;
+    }
+  }
+  loaded.Visit([&](auto * volume) {
+    using LoadedType = std::remove_const_t<std::remove_pointer_t<decltype(volume)>>;
+    if constexpr (std::is_same_v<LoadedType, TVolume>)
+    {
+      if (!headerVolume)
+      {
+        geometry = MakeGeometry(options, volume); // a series' centre, known once it is read
+      }
+      renderer.Filter->SetInput(volume);
+      RenderView(options, loaded, volume, renderer, geometry.GetPointer(), spectrum, stages);
+    }
+    else
+    {
+      // A DICOM series of values an int16 does not hold, read as float: the filter of that type, of the same settings.
+      const Renderer<LoadedType> floatRenderer = MakeRenderer(options, volume);
+      floatRenderer.Filter->SetMemoryBudget(0);
+      RenderView(options, loaded, volume, floatRenderer, MakeGeometry(options, volume).GetPointer(), spectrum, stages);
+    }
+  });
+}
 } // namespace
 
 void
@@ -624,27 +720,15 @@ Run(const Options & options)
     itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
   }
 
-  MakeGeometry(options, nullptr); // the view's checks (geometry file, SID against SAD) before the load
-
-  auto        start = Clock::now();
-  ProgressBar loadProgress(chatty);
-  Options     viewOptions = options;
-  viewOptions.stream = ChooseStreamSlabs(options);
-  const LoadedVolume loaded = viewOptions.stream > 1
-                                ? OpenStreamedVolume(options.input)
-                                : LoadVolume(options.input, options.seriesUID, [&](size_t done, size_t total) {
-                                    loadProgress.ShowCount("reading DICOM files", done, total);
-                                  });
-  loadProgress.Finish();
-  stages.emplace_back("load", SecondsSince(start));
-  for (const auto & note : loaded.Notes)
+  const LoadedVolume header = OpenVolumeHeader(options);
+  if (header.IsSet())
   {
-    if (chatty)
-    {
-      std::cerr << "pbdrr: " << note << std::endl;
-    }
+    header.Visit([&](auto * volume) { LoadAndRenderView(options, header, volume, spectrum, stages); });
   }
-  loaded.Visit([&](auto * volume) { RenderView(viewOptions, loaded, volume, spectrum, stages); });
+  else
+  {
+    LoadAndRenderView<HUVolumeType>(options, header, nullptr, spectrum, stages);
+  }
 }
 
 } // namespace pbdrr

@@ -52,17 +52,39 @@ struct Renderer
 LoadedVolume
 OpenStreamedVolume(const std::string & input);
 
-/** The slabs a run reads its CT in: --stream, or as many as --memory-budget (default: half the machine's memory)
- * needs for a CT file (not DICOM) whose unstreamed render would hold more, if its settings can be streamed; 1
- * otherwise (and for a batch of --exact or --independent-views views). Says on stderr when it streams unasked. */
-unsigned int
-ChooseStreamSlabs(const Options & options);
+/** The CT's header before the load, for the view and the filter that renders it: OpenStreamedVolume() of a file ITK
+ * reads, not DICOM. Unset for a DICOM series or file, which is read whole (no budget streams it), and for a file
+ * the load refuses: in the load's words (LoadVolumeAfterHeader()), after the settings' checks. */
+LoadedVolume
+OpenVolumeHeader(const Options & options);
 
-/** Builds the renderer of the options (sampler, kernel, splat, control variate, or --exact) for volume. Instantiated
- * for HUVolumeType and VolumeType. */
+/** The CT: read whole (LoadVolume()) or, streamed, the header's reader (OpenStreamedVolume() if the header is unset,
+ * which refuses a series or a missing or damaged file). */
+LoadedVolume
+LoadVolumeAfterHeader(const Options &      options,
+                      const LoadedVolume & header,
+                      bool                 streamed,
+                      const LoadProgress & progress);
+
+/** Builds the renderer of the options (sampler, kernel, splat, control variate, or --exact, --stream and
+ * --memory-budget) for volume (its header alone, or null before the load). Instantiated for HUVolumeType and
+ * VolumeType. */
 template <typename TVolume>
 Renderer<TVolume>
 MakeRenderer(const Options & options, const TVolume * volume);
+
+/** Asks the configured filter, before the load, whether its settings hold: the point filter's VerifySettings() and,
+ * with --stream, WhyNotStreamable(). Its refusal is a UsageError in the filter's words: the rules are the filter's,
+ * the options chose the settings. */
+template <typename TVolume>
+void
+VerifyRenderSettings(const Options & options, const Renderer<TVolume> & renderer);
+
+/** The slabs the filter will read its input in (GetNumberOfSlabs(): --stream, or as many as its memory budget needs),
+ * said on stderr when the budget streams unasked. */
+template <typename TVolume>
+unsigned int
+AnnounceSlabs(const Options & options, const Renderer<TVolume> & renderer);
 
 /** HU (or mu) to attenuation, as --input-units, --energy, --mu-water and --air-threshold say. */
 itk::DRRTransferFunction::Pointer

@@ -36,6 +36,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <type_traits>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -475,86 +476,20 @@ PlanBatch(const Options & options, uint64_t shardOffset)
   return plan;
 }
 
-BatchProgress::BatchProgress(uint64_t total, bool enabled)
-  : m_Total(total), m_Enabled(enabled), m_Terminal(isatty(fileno(stderr)) != 0), m_Start(Now()), m_LastPrint(m_Start)
-{}
-
-BatchProgress::~BatchProgress()
-{
-  if (m_Enabled && m_Terminal && !m_Finished && m_Done > 0)
-  {
-    std::fprintf(stderr, "\n");
-  }
-}
-
-void
-BatchProgress::ViewDone()
-{
-  ++m_Done;
-  const double now = Now();
-  if (m_Enabled && (m_Terminal ? now - m_LastPrint >= 0.2 : now - m_LastPrint >= 10.0))
-  {
-    m_LastPrint = now;
-    this->Print(false);
-  }
-}
-
-void
-BatchProgress::Print(bool final)
-{
-  const double seconds = Now() - m_Start;
-  const double rate = seconds > 0.0 ? static_cast<double>(m_Done) / seconds : 0.0;
-  char         line[160];
-  if (final)
-  {
-    std::snprintf(line,
-                  sizeof(line),
-                  "pbdrr: rendered %llu views in %.1f s (%.1f views/s)",
-                  static_cast<unsigned long long>(m_Done),
-                  seconds,
-                  rate);
-  }
-  else
-  {
-    const double left = rate > 0.0 ? static_cast<double>(m_Total - m_Done) / rate : 0.0;
-    std::snprintf(line,
-                  sizeof(line),
-                  "pbdrr: views %llu / %llu, %.1f views/s, about %.0f s left",
-                  static_cast<unsigned long long>(m_Done),
-                  static_cast<unsigned long long>(m_Total),
-                  rate,
-                  left);
-  }
-  if (m_Terminal)
-  {
-    std::fprintf(stderr, "\r%-79s%s", line, final ? "\n" : "");
-  }
-  else
-  {
-    std::fprintf(stderr, "%s\n", line);
-  }
-  std::fflush(stderr);
-}
-
-void
-BatchProgress::Finish()
-{
-  if (m_Enabled && !m_Finished)
-  {
-    this->Print(true);
-  }
-  m_Finished = true;
-}
-
 namespace
 {
 /** The renderer of a batch: the options' own (without a standard error: a batch writes none), with the points kept for
- * every view (unless --independent-views). */
+ * every view (unless --independent-views), for volume (its header alone, or null before a DICOM series is read). */
 template <typename TVolume>
 Renderer<TVolume>
 MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume * volume)
 {
   const Renderer<TVolume> renderer = MakeRenderer(options, volume);
+  if (!volume || options.exact || options.independentViews)
+  {
+    // Read whole: a DICOM series is, and a streamed batch keeps the points (these would read the CT at every view).
+    renderer.Filter->SetMemoryBudget(0);
+  }
   if (!renderer.Points)
   {
     return renderer;
@@ -563,22 +498,31 @@ MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume
   renderer.Points->SetReusePoints(!options.independentViews);
   // Every view of the plan, whichever this run renders: the automatic factor is the same in every run and shard.
   renderer.Points->SetExpectedNumberOfPoses(plan.Views.size());
-  if (!options.independentViews && options.controlVariate == PointFilterType<TVolume>::AutomaticControlVariateFactor)
-  {
-    // The automatic factor of the kept points is chosen at the first render: at view 0, whichever views this run
-    // renders, so that the split, and so every view's image, is the same in every run and shard. Streamed, the
-    // choice at view 0 is set (the volume is not read here).
-    renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
-    if (options.stream > 1)
-    {
-      renderer.Points->SetControlVariateFactor(renderer.Points->ResolveStreamedControlVariateFactor());
-    }
-    else
-    {
-      renderer.Points->PrepareSampling();
-    }
-  }
   return renderer;
+}
+
+/** Fixes `auto`'s factor of the kept points at view 0, whichever views this run renders, so that the split, and so
+ * every view's image, is the same in every run and shard. Streamed, the choice at view 0 is set (the volume is not
+ * read here); otherwise the first render's. */
+template <typename TVolume>
+void
+FixAutomaticFactor(const Options & options, const BatchPlan & plan, const Renderer<TVolume> & renderer)
+{
+  if (!renderer.Points || options.independentViews ||
+      options.controlVariate != PointFilterType<TVolume>::AutomaticControlVariateFactor)
+  {
+    return;
+  }
+  const TVolume * volume = renderer.Filter->GetInput();
+  renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
+  if (renderer.Filter->GetNumberOfSlabs() > 1)
+  {
+    renderer.Points->SetControlVariateFactor(renderer.Points->ResolveStreamedControlVariateFactor());
+  }
+  else
+  {
+    renderer.Points->PrepareSampling();
+  }
 }
 
 /** Copies view s's image into the stack (made at the first view), in the output mode. */
@@ -636,13 +580,15 @@ PrintBatchTimes(double load, double first, double rest, size_t views, const Rend
 /** Renders the selected views of the plan from a loaded volume (of its own pixel type: int16 HU or float). */
 template <typename TVolume>
 void
-RenderViews(const Options &   options,
-            const BatchPlan & plan,
-            BatchProgress &   progress,
-            double            loadSeconds,
-            const TVolume *   volume)
+RenderViews(const Options &           options,
+            const BatchPlan &         plan,
+            BatchProgress &           progress,
+            double                    loadSeconds,
+            const TVolume *           volume,
+            const Renderer<TVolume> & renderer)
 {
-  const Renderer<TVolume> renderer = MakeBatchRenderer(options, plan, volume);
+  renderer.Filter->SetInput(volume);
+  FixAutomaticFactor(options, plan, renderer);
   if (!options.writeRtkGeometry.empty())
   {
     WriteRTKGeometry(options, plan, volume, options.writeRtkGeometry, "--write-rtk-geometry");
@@ -697,22 +643,64 @@ RenderViews(const Options &   options,
 }
 } // namespace
 
-void
-RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
+namespace
 {
-  const double loadStart = Now();
-  // Streamed (--stream, or a CT over the memory budget): the points are drawn slab by slab at the first view and
-  // re-projected at every other, so each slab is read for all the views at once.
-  Options batchOptions = options;
-  batchOptions.stream = ChooseStreamSlabs(options);
-  const LoadedVolume loaded =
-    batchOptions.stream > 1 ? OpenStreamedVolume(options.input) : LoadVolume(options.input, options.seriesUID, {});
-  const double loadSeconds = Now() - loadStart;
+/** The batch's renderer built, and asked whether its settings hold, before the load, for the CT's header (headerVolume;
+ * null for a DICOM series, whose values decide its pixel type as it is read); then the CT, read whole or, if the
+ * filter reads it in slabs, left to the filter. Streamed (--stream, or a CT over the memory budget), the points are
+ * drawn slab by slab at the first view and re-projected at every other, so each slab is read for all the views at
+ * once. */
+template <typename TVolume>
+void
+LoadAndRenderViews(const Options &      options,
+                   const BatchPlan &    plan,
+                   BatchProgress &      progress,
+                   const LoadedVolume & header,
+                   const TVolume *      headerVolume,
+                   double               loadStart)
+{
+  const Renderer<TVolume> renderer = MakeBatchRenderer(options, plan, headerVolume);
+  VerifyRenderSettings(options, renderer);
+  if (headerVolume)
+  {
+    renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), headerVolume)); // the slabs' alignment
+  }
+  const bool         fromHeader = AnnounceSlabs(options, renderer) > 1 || options.stream > 1;
+  const LoadedVolume loaded = LoadVolumeAfterHeader(options, header, fromHeader, {});
+  const double       loadSeconds = Now() - loadStart;
   for (size_t n = 0; !options.quiet && n < loaded.Notes.size(); ++n)
   {
     std::cerr << "pbdrr: " << loaded.Notes[n] << std::endl;
   }
-  loaded.Visit([&](auto * volume) { RenderViews(batchOptions, plan, progress, loadSeconds, volume); });
+  loaded.Visit([&](auto * volume) {
+    using LoadedType = std::remove_const_t<std::remove_pointer_t<decltype(volume)>>;
+    if constexpr (std::is_same_v<LoadedType, TVolume>)
+    {
+      RenderViews(options, plan, progress, loadSeconds, volume, renderer);
+    }
+    else
+    {
+      // A DICOM series of values an int16 does not hold, read as float: the renderer of that type, of the same
+      // settings.
+      RenderViews(options, plan, progress, loadSeconds, volume, MakeBatchRenderer(options, plan, volume));
+    }
+  });
+}
+} // namespace
+
+void
+RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
+{
+  const double       loadStart = Now();
+  const LoadedVolume header = OpenVolumeHeader(options);
+  if (header.IsSet())
+  {
+    header.Visit([&](auto * volume) { LoadAndRenderViews(options, plan, progress, header, volume, loadStart); });
+  }
+  else
+  {
+    LoadAndRenderViews<HUVolumeType>(options, plan, progress, header, nullptr, loadStart);
+  }
 }
 
 void

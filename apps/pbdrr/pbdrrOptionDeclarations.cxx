@@ -244,7 +244,7 @@ OptionDeclarations()
     Option("--control-variate").In(Rendering).Takes("F|auto|off").Default("auto")
       .Does([](Options & o, const Values & v) {
         o.controlVariate = ControlVariateFactor(v[0]);
-        o.controlVariateGiven = true; // an auto or a factor given is refused, not dropped, where it cannot apply
+        o.controlVariateGiven = true; // given with --exact: refused, not dropped
       })
       .Help("exact coarse image (block means of F^3 voxels, Siddon) plus points for the signed residual\n"
             "only: the same expectation, error about M_r / M of plain sampling; auto picks F for the\n"

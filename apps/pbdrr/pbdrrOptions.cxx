@@ -205,41 +205,16 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   {
     throw UsageError("--energy and --mu-water both set mu_water: give one");
   }
-  if (options.stream > 1 && options.exact && *options.exact != itk::PointBasedDRREnums::ReconstructionKernel::Box)
-  {
-    throw UsageError("--stream reads the CT slab by slab for --exact siddon, not the trilinear projector (a tent voxel "
-                     "reaches into the next slab)");
-  }
-  if (options.stream > 1 && !options.exact && options.sampler != "stratified")
-  {
-    throw UsageError(
-      "--stream shares the points out between the slabs along the stratified sampler's curve; --sampler " +
-      options.sampler + " draws from tables of the whole volume");
-  }
+  // The options that do not apply to the projector chosen: the command line's own rules. The render's rules (the
+  // control variate's kernel and weighting, what streams) are the filter's, asked of it before the load
+  // (VerifyRenderSettings()); there `auto` resolves to off where the control variate cannot apply.
   if (options.exact && options.paperCount)
   {
     throw UsageError("--paper-count applies to point sampling, not to --exact");
   }
-  const bool controlVariateApplies =
-    !options.exact && !options.paperCount && options.kernel == itk::PointBasedDRREnums::ReconstructionKernel::Box;
-  if (options.controlVariate > 0 && !options.controlVariateGiven && !controlVariateApplies)
+  if (options.exact && options.controlVariateGiven && options.controlVariate > 0)
   {
-    options.controlVariate = 0; // the default auto: off where it does not apply
-  }
-  if (options.controlVariate > 0)
-  {
-    if (options.exact)
-    {
-      throw UsageError("--control-variate applies to point sampling, not to --exact");
-    }
-    if (options.paperCount)
-    {
-      throw UsageError("--control-variate needs the unbiased weighting, not --paper-count");
-    }
-    if (options.kernel != itk::PointBasedDRREnums::ReconstructionKernel::Box)
-    {
-      throw UsageError("--control-variate needs --kernel box (its coarse image is the box model's)");
-    }
+    throw UsageError("--control-variate applies to point sampling, not to --exact");
   }
   return options;
 }

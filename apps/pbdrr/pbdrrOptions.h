@@ -67,10 +67,11 @@ struct Options
   bool                                          paperCount{ false };
   unsigned                                      strata{ 0 }; // 0: the sampler's preference
   /** --control-variate: the coarsening factor F (0: off; the filter's AutomaticControlVariateFactor: auto, the
-   * default, which is off where the control variate does not apply: --exact, --paper-count, a kernel other than box).
+   * default, which the filter resolves to off where the control variate does not apply: --paper-count, a kernel
+   * other than box; --exact renders without).
    */
   unsigned controlVariate{ itk::DRRControlVariate::AutomaticFactor };
-  bool     controlVariateGiven{ false }; // --control-variate on the command line: refuse, not drop, where it cannot be
+  bool     controlVariateGiven{ false }; // --control-variate on the command line: refused with --exact, not dropped
 
   std::string                          inputUnits{ "hu" };
   std::optional<double>                energyKeV;
