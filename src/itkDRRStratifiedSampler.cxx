@@ -44,29 +44,129 @@ CurveCode(uint64_t x, uint64_t y, uint64_t z)
   return z << 32 | code;
 }
 
-/** Reorders items in place so that position p holds what position source[p] held (source: a permutation, consumed),
- * one cycle at a time: one item of scratch instead of a second array. */
-template <typename T>
-void
-GatherInPlace(std::vector<T> & items, std::vector<uint64_t> & source)
+/** The rank of every brick of a plane of bricks (x fastest) on the curve inside its plane: the 2-D Morton order of
+ * (x, y), the same in every plane. Sorted once per plane shape, not once per brick of the volume. */
+std::vector<uint32_t>
+RankInPlane(uint64_t columns, uint64_t rows)
 {
-  for (uint64_t i = 0; i < items.size(); ++i)
+  std::vector<std::pair<uint64_t, uint32_t>> coded(columns * rows); // (curve code, brick of the plane)
+  for (uint64_t y = 0; y < rows; ++y)
   {
-    if (source[i] == i)
+    for (uint64_t x = 0; x < columns; ++x)
     {
-      continue; // in place, or placed by an earlier cycle
+      coded[x + columns * y] = { CurveCode(x, y, 0), static_cast<uint32_t>(x + columns * y) };
     }
-    const T  first = items[i];
-    uint64_t j = i;
-    while (source[j] != i)
+  }
+  std::sort(coded.begin(), coded.end());
+  std::vector<uint32_t> rank(coded.size());
+  for (size_t r = 0; r < coded.size(); ++r)
+  {
+    rank[coded[r].second] = static_cast<uint32_t>(r);
+  }
+  return rank;
+}
+
+/** Fills the bricks of the row (by, bz) of Initialize()'s pass: brick bx at plane[rankInPlane[bx]], its place on the
+ * curve inside its plane of bricks; FirstVoxel holds the brick's own count of non-air voxels. (A template: the brick
+ * is the sampler's private type.) */
+template <typename TBrick>
+void
+BuildBrickRow(const DRRAttenuationVolume & volume,
+              uint64_t                     by,
+              uint64_t                     bz,
+              const uint32_t *             rankInPlane,
+              TBrick *                     plane)
+{
+  const auto &              size = volume.GetSize();
+  const uint64_t            bricks = (size[0] + brickSide - 1) / brickSide;
+  const MortonInsideBrick & morton = GetMortonInsideBrick();
+  for (uint64_t bx = 0; bx < bricks; ++bx)
+  {
+    TBrick & brick = plane[rankInPlane[bx]];
+    brick = TBrick{};
+    brick.Origin[0] = static_cast<uint16_t>(bx);
+    brick.Origin[1] = static_cast<uint16_t>(by);
+    brick.Origin[2] = static_cast<uint16_t>(bz);
+  }
+  std::vector<float> line(size[0]);
+  for (uint64_t dz = 0; dz < brickSide && bz * brickSide + dz < size[2]; ++dz)
+  {
+    for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
     {
-      const uint64_t k = source[j];
-      items[j] = items[k];
-      source[j] = j;
-      j = k;
+      volume.FillMuRow(0, by * brickSide + dy, bz * brickSide + dz, size[0], line.data());
+      // Voxels x and x + 4 of a brick's row have the same place in their groups (the Morton code's low 6 bits), in
+      // groups g and g + 1. Air adds a zero bit and a zero mass: no branch on noisy data. Group masses are exact sums
+      // (see Brick), so the order of this pass does not matter.
+      const uint64_t group = ((dy >> 2) & 1u) << 1 | ((dz >> 2) & 1u) << 2;
+      uint64_t       place[4];
+      for (uint64_t x = 0; x < 4; ++x)
+      {
+        place[x] = morton.Code[x | dy << 3 | dz << 6] & 63u;
+      }
+      for (uint64_t bx = 0; bx < bricks; ++bx)
+      {
+        const float *  mu = line.data() + bx * brickSide;
+        const uint64_t n = std::min(brickSide, size[0] - bx * brickSide);
+        TBrick &       brick = plane[rankInPlane[bx]];
+        for (uint64_t half = 0; half < 2; ++half)
+        {
+          uint64_t bits = 0;
+          double   mass = brick.GroupMass[group + half];
+          for (uint64_t x = 4 * half; x < std::min<uint64_t>(n, 4 * half + 4); ++x)
+          {
+            bits |= uint64_t{ mu[x] > 0.0f } << place[x & 3u];
+            mass += mu[x];
+          }
+          brick.Occupancy[group + half] |= bits;
+          brick.GroupMass[group + half] = mass;
+        }
+      }
     }
-    items[j] = first;
-    source[j] = j;
+  }
+  // Each brick's own sums, here while it is in the cache; FirstVoxel holds its count of non-air voxels until
+  // KeepNonEmptyBricks() makes it a prefix.
+  for (uint64_t bx = 0; bx < bricks; ++bx)
+  {
+    TBrick & brick = plane[rankInPlane[bx]];
+    for (unsigned int g = 0; g < 8; ++g)
+    {
+      brick.FirstVoxel += uint64_t{ DRRPopCount64(brick.Occupancy[g]) };
+      brick.Mass += brick.GroupMass[g];
+      brick.LastGroup = brick.Occupancy[g] ? static_cast<uint8_t>(g) : brick.LastGroup;
+    }
+  }
+}
+
+/** Moves the non-empty bricks of the grid down in curve order (in place: a copy would hold the bricks twice, 1.4 GB on
+ * a 4.6 G voxel CT) and drops the rest; counts the non-air voxels before each and sums the masses in that order. */
+template <typename TBrick>
+void
+KeepNonEmptyBricks(std::vector<TBrick> & grid, uint64_t & numberOfVoxels, double & totalMass)
+{
+  uint64_t numberOfBricks = 0;
+  numberOfVoxels = 0;
+  totalMass = 0.0;
+  for (uint64_t g = 0; g < grid.size(); ++g)
+  {
+    TBrick &       brick = grid[g];
+    const uint64_t voxels = brick.FirstVoxel;
+    if (voxels == 0)
+    {
+      continue; // no occupancy bit: an empty brick
+    }
+    brick.FirstVoxel = numberOfVoxels;
+    numberOfVoxels += voxels;
+    totalMass += brick.Mass;
+    if (numberOfBricks != g)
+    {
+      grid[numberOfBricks] = brick;
+    }
+    ++numberOfBricks;
+  }
+  grid.resize(numberOfBricks);
+  if (grid.capacity() > numberOfBricks + numberOfBricks / 8)
+  {
+    grid.shrink_to_fit(); // many empty bricks (a CT of mostly air): worth the copy of the rest
   }
 }
 } // namespace
@@ -101,117 +201,26 @@ DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
                                                 << " voxels along an axis are not supported (got " << size[a] << ")");
     }
   }
-  const MortonInsideBrick & morton = GetMortonInsideBrick();
 
-  // One pass, one row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy and group masses. Group
-  // masses are exact sums (see Brick), so the order of this pass does not matter. The sampler keeps no mu: the walk
+  // One pass, one row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy, group masses and each
+  // brick's sums, every brick written straight to its place on the curve (planes of bricks in z, each in the Morton
+  // order of RankInPlane()): no sort of the bricks and no second array of them. The sampler keeps no mu: the walk
   // reads a group's voxels from the volume when it reaches it (FillGroupMu()).
-  const uint64_t     numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
-  const uint64_t     numberOfGridBricks = bricksPerAxis[0] * numberOfBrickRows;
-  std::vector<Brick> grid(numberOfGridBricks); // becomes m_Bricks, reordered in place: the bricks are held once
+  const uint64_t              numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
+  const uint64_t              bricksPerPlane = bricksPerAxis[0] * bricksPerAxis[1];
+  const std::vector<uint32_t> rank = RankInPlane(bricksPerAxis[0], bricksPerAxis[1]);
+  std::vector<Brick>          grid(bricksPerPlane * bricksPerAxis[2]); // becomes m_Bricks: the bricks are held once
   DRRAttenuationVolume::ParallelizeBlocks(
     numberOfBrickRows,
     [&](uint64_t brickRow) {
-      const uint64_t     by = brickRow % bricksPerAxis[1];
-      const uint64_t     bz = brickRow / bricksPerAxis[1];
-      Brick *            row = grid.data() + brickRow * bricksPerAxis[0];
-      std::vector<float> line(size[0]);
-      for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
-      {
-        row[bx] = Brick{};
-        row[bx].Origin[0] = static_cast<uint16_t>(bx);
-        row[bx].Origin[1] = static_cast<uint16_t>(by);
-        row[bx].Origin[2] = static_cast<uint16_t>(bz);
-      }
-      for (uint64_t dz = 0; dz < brickSide && bz * brickSide + dz < size[2]; ++dz)
-      {
-        for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
-        {
-          volume.FillMuRow(0, by * brickSide + dy, bz * brickSide + dz, size[0], line.data());
-          // Voxels x and x + 4 of a brick's row have the same place in their groups (the Morton code's low 6 bits),
-          // in groups g and g + 1. Air adds a zero bit and a zero mass: no branch on noisy data.
-          const uint64_t group = ((dy >> 2) & 1u) << 1 | ((dz >> 2) & 1u) << 2;
-          uint64_t       place[4];
-          for (uint64_t x = 0; x < 4; ++x)
-          {
-            place[x] = morton.Code[x | dy << 3 | dz << 6] & 63u;
-          }
-          for (uint64_t bx = 0; bx < bricksPerAxis[0]; ++bx)
-          {
-            const float *  mu = line.data() + bx * brickSide;
-            const uint64_t n = std::min(brickSide, size[0] - bx * brickSide);
-            Brick &        brick = row[bx];
-            for (uint64_t half = 0; half < 2; ++half)
-            {
-              uint64_t bits = 0;
-              double   mass = brick.GroupMass[group + half];
-              for (uint64_t x = 4 * half; x < std::min<uint64_t>(n, 4 * half + 4); ++x)
-              {
-                bits |= uint64_t{ mu[x] > 0.0f } << place[x & 3u];
-                mass += mu[x];
-              }
-              brick.Occupancy[group + half] |= bits;
-              brick.GroupMass[group + half] = mass;
-            }
-          }
-        }
-      }
+      const uint64_t by = brickRow % bricksPerAxis[1];
+      const uint64_t bz = brickRow / bricksPerAxis[1];
+      BuildBrickRow(volume, by, bz, rank.data() + by * bricksPerAxis[0], grid.data() + bz * bricksPerPlane);
     },
     nullptr);
-
-  // The non-empty bricks in curve order, and the non-air voxels before each: the grid itself, reordered in place and
-  // cut after its last non-empty brick (a copy would hold the bricks twice: 1.4 GB on a 4.6 G voxel CT).
-  std::vector<std::pair<uint64_t, uint64_t>> coded; // (Morton code, grid index)
-  std::vector<uint64_t>                      empty;
-  for (uint64_t g = 0; g < numberOfGridBricks; ++g)
-  {
-    uint64_t occupied = 0;
-    for (const uint64_t word : grid[g].Occupancy)
-    {
-      occupied |= word;
-    }
-    if (occupied)
-    {
-      coded.emplace_back(CurveCode(grid[g].Origin[0], grid[g].Origin[1], grid[g].Origin[2]), g);
-    }
-    else
-    {
-      empty.push_back(g);
-    }
-  }
-  std::sort(coded.begin(), coded.end());
-  const size_t          numberOfBricks = coded.size();
-  std::vector<uint64_t> source(numberOfGridBricks); // position b takes grid brick source[b]: non-empty ones first
-  for (size_t b = 0; b < numberOfBricks; ++b)
-  {
-    source[b] = coded[b].second;
-  }
-  std::copy(empty.begin(), empty.end(), source.begin() + static_cast<std::ptrdiff_t>(numberOfBricks));
-  coded = {};
-  empty = {};
-  GatherInPlace(grid, source);
-  source = {};
-  grid.resize(numberOfBricks);
-  if (grid.capacity() > numberOfBricks + numberOfBricks / 8)
-  {
-    grid.shrink_to_fit(); // many empty bricks (a CT of mostly air): worth the copy of the rest
-  }
+  double totalMass = 0.0;
+  KeepNonEmptyBricks(grid, m_NumberOfNonAirVoxels, totalMass);
   m_Bricks = std::move(grid);
-  uint64_t numberOfVoxels = 0;
-  double   totalMass = 0.0;
-  for (Brick & brick : m_Bricks)
-  {
-    brick.FirstVoxel = numberOfVoxels;
-    brick.Mass = 0.0;
-    for (unsigned int g = 0; g < 8; ++g)
-    {
-      numberOfVoxels += uint64_t{ DRRPopCount64(brick.Occupancy[g]) };
-      brick.Mass += brick.GroupMass[g];
-      brick.LastGroup = brick.Occupancy[g] ? static_cast<uint8_t>(g) : brick.LastGroup;
-    }
-    totalMass += brick.Mass;
-  }
-  m_NumberOfNonAirVoxels = numberOfVoxels;
   m_TotalMass = totalMass * m_VoxelVolume;
   m_MaximumWeight = 1.0;
   m_WholeVolumePlan =

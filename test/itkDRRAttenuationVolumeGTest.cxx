@@ -406,6 +406,71 @@ TEST(DRRStratifiedSampler, TheCurveTakesBrickPlanesInZEachIn2DMortonOrder)
   }
 }
 
+// Empty bricks between non-empty ones, on every axis and in partial bricks at the far sides: the sampler keeps exactly
+// the non-empty bricks, still in curve order (planes in z, 2-D Morton order inside a plane), each with its own count
+// and sum. The bricks are placed on the curve as they are built and the empty ones dropped afterwards: a kept brick
+// moved to the wrong place, or an empty one kept, fails here.
+TEST(DRRStratifiedSampler, KeepsTheNonEmptyBricksAloneInCurveOrder)
+{
+  const itk::DRRAttenuationVolume::SizeType size{ { 43, 29, 35 } }; // 6 x 4 x 5 bricks, partial at every far side
+  std::vector<int16_t>                      values(size[0] * size[1] * size[2], -1300);
+  const auto occupiedBrick = [](uint64_t bx, uint64_t by, uint64_t bz) { return (bx + 2 * by + 3 * bz) % 4 == 1; };
+  std::vector<uint64_t> expectedVoxels(6 * 4 * 5, 0);
+  for (uint64_t k = 0; k < size[2]; ++k)
+  {
+    for (uint64_t j = 0; j < size[1]; ++j)
+    {
+      for (uint64_t i = 0; i < size[0]; ++i)
+      {
+        // A few voxels of tissue (a diagonal of the brick) in the occupied bricks, air elsewhere.
+        if (occupiedBrick(i / 8, j / 8, k / 8) && i % 8 == j % 8 && (k % 8) % 3 == 0)
+        {
+          values[i + size[0] * (j + size[1] * k)] = static_cast<int16_t>(100 + (i * 7 + j * 3 + k) % 900);
+          ++expectedVoxels[i / 8 + 6 * (j / 8 + 4 * (k / 8))];
+        }
+      }
+    }
+  }
+  const auto volume = BuildInPlace(values, size);
+  auto       sampler = itk::DRRStratifiedSampler::New();
+  sampler->Initialize(*volume);
+  const auto curve = [](const itk::DRRStratifiedSampler::BrickSummary & brick) {
+    uint64_t code = 0;
+    for (unsigned int bit = 0; bit < 16; ++bit)
+    {
+      code |= ((brick.Origin[0] / 8 >> bit) & 1u) << (2 * bit) | ((brick.Origin[1] / 8 >> bit) & 1u) << (2 * bit + 1);
+    }
+    return brick.Origin[2] / 8 << 32 | code;
+  };
+  uint64_t expectedBricks = 0;
+  uint64_t expectedTotal = 0;
+  for (const uint64_t count : expectedVoxels)
+  {
+    expectedBricks += count > 0 ? 1 : 0;
+    expectedTotal += count;
+  }
+  ASSERT_GT(expectedBricks, 10u);
+  ASSERT_LT(expectedBricks, expectedVoxels.size() / 2);
+  ASSERT_EQ(sampler->GetNumberOfBricks(), expectedBricks);
+  uint64_t total = 0;
+  for (size_t b = 0; b < sampler->GetNumberOfBricks(); ++b)
+  {
+    const auto     brick = sampler->GetBrickSummary(b);
+    const uint64_t index = brick.Origin[0] / 8 + 6 * (brick.Origin[1] / 8 + 4 * (brick.Origin[2] / 8));
+    EXPECT_EQ(brick.NonAirVoxels, expectedVoxels[index])
+      << "brick " << b << " at voxel " << brick.Origin[0] << ", " << brick.Origin[1] << ", " << brick.Origin[2];
+    EXPECT_GT(brick.MuSum, 0.0) << "brick " << b;
+    if (b > 0)
+    {
+      EXPECT_LT(curve(sampler->GetBrickSummary(b - 1)), curve(brick)) << "brick " << b << " out of curve order";
+    }
+    total += brick.NonAirVoxels;
+  }
+  EXPECT_EQ(total, expectedTotal);
+  const auto plan = sampler->MakeViewPlan(*volume, nullptr, 0.0, 0.0);
+  EXPECT_EQ(itk::DRRStratifiedSampler::GetNumberOfVoxelsInPlan(*plan), expectedTotal);
+}
+
 TEST(DRRStratifiedSampler, BrickSumsEqualADirectSumOverEveryBrick)
 {
   const itk::DRRAttenuationVolume::SizeType size{ { 45, 30, 19 } };
