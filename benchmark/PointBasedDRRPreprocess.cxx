@@ -105,9 +105,9 @@ main(int argc, char * argv[])
               << 1e9 * total.back() / voxels << " ns per voxel (M " << controlVariate->GetTotalMass() << " mm^2, M_r "
               << sampler->GetTotalMass() << " mm^2, " << sampler->GetNumberOfBricks() << " bricks)" << std::endl;
   }
-  std::cout << "median of " << repeats << ", " << threads << " threads, " << voxels
-            << " voxels: model " << 1e9 * Median(model) / voxels << ", control variate "
-            << 1e9 * Median(split) / voxels << ", sampler tables " << 1e9 * Median(tables) / voxels
-            << ", preprocess " << 1e9 * Median(total) / voxels << " ns per voxel" << std::endl;
+  std::cout << "median of " << repeats << ", " << threads << " threads, " << voxels << " voxels: model "
+            << 1e9 * Median(model) / voxels << ", control variate " << 1e9 * Median(split) / voxels
+            << ", sampler tables " << 1e9 * Median(tables) / voxels << ", preprocess " << 1e9 * Median(total) / voxels
+            << " ns per voxel" << std::endl;
   return EXIT_SUCCESS;
 }
