@@ -64,6 +64,12 @@ public:
   Estimate
   Combine() const;
 
+  /** The estimate's relative error: the root mean square of its standard error over the pixels, divided by the
+   * image's range (max - min of the line integral): what NRMSE against the exact pixel-averaged image measures, as
+   * a fraction (0.01: 1%). 0 for an image without error; infinite for a flat image with some. */
+  static double
+  ComputeRelativeError(const Estimate & estimate);
+
   /** Number of passes added. */
   unsigned int
   GetNumberOfPasses() const

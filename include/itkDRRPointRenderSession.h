@@ -202,6 +202,12 @@ public:
   {
     return m_Passes;
   }
+  /** The estimated relative error of the passes combined (DRRPassCombination::ComputeRelativeError()), 0 before. */
+  double
+  GetEstimatedError() const
+  {
+    return m_EstimatedError;
+  }
   /** Attenuation mass of the volume in the room of the last pass, mm^2. */
   double
   GetTotalMass() const
@@ -290,6 +296,7 @@ private:
   // The passes, when they were rendered, and what a Refine() asks for.
   DRRPassCombination m_Passes;
   double             m_TotalMass{ 0.0 };
+  double             m_EstimatedError{ 0.0 };
   TimeStamp          m_PassesTime;
   uint64_t           m_RefinementSamples{ 0 };
 };

@@ -95,6 +95,31 @@ public:
   ///@}
 
   ///@{
+  /** The accuracy asked for, a fraction (0.01: 1%) of the estimated relative error
+   * (DRRPassCombination::ComputeRelativeError(): the root mean square of the standard-error image over the range of
+   * the line-integral image, what NRMSE against the exact pixel-averaged image measures). 0 (the default): render
+   * NumberOfSamples points, whatever the error. Above 0: render NumberOfSamples points first, then add independent
+   * passes (as Refine() does) of as many points as the estimate says are missing, a tenth more, until the estimate
+   * is at most the target; a target that would need more than MaximumNumberOfSamples points in all is refused with
+   * an exception. Needs ComputeStandardError. */
+  itkSetClampMacro(TargetError, double, 0.0, 1.0);
+  itkGetConstMacro(TargetError, double);
+  ///@}
+
+  ///@{
+  /** The most points a TargetError may spend in all, over its passes (default 2^32). */
+  itkSetMacro(MaximumNumberOfSamples, uint64_t);
+  itkGetConstMacro(MaximumNumberOfSamples, uint64_t);
+  ///@}
+
+  /** The estimated relative error of the current outputs (see TargetError), 0 before a render. */
+  double
+  GetEstimatedError() const
+  {
+    return m_Session->GetEstimatedError();
+  }
+
+  ///@{
   /** Seed of the counter-based random streams. Default 0. */
   itkSetMacro(Seed, uint64_t);
   itkGetConstMacro(Seed, uint64_t);
@@ -332,6 +357,12 @@ private:
   /** Warns if samples points are too few for the sampler's strata. */
   void
   WarnIfTooFewPerStratum(uint64_t samples) const;
+  /** Renders one pass of samples points (the session's next) and adds it to the passes; returns their estimate. */
+  DRRPassCombination::Estimate
+  RenderPass(const DRRPointRenderSession::Request & request, uint64_t samples);
+  /** Adds passes until the estimated error is at most TargetError (see there). */
+  DRRPassCombination::Estimate
+  RefineToTarget(const DRRPointRenderSession::Request & request, DRRPassCombination::Estimate estimate);
   /** Warns of a render whose points came near the source; makes one channel the image itself. */
   void
   CompleteResult(DRRPointRenderer::Result & result) const;
@@ -348,6 +379,8 @@ private:
   bool                          m_ComputeStandardError{ true };
   bool                          m_ReusePoints{ false };
   uint64_t                      m_ExpectedNumberOfPoses{ 1 };
+  double                        m_TargetError{ 0.0 };
+  uint64_t                      m_MaximumNumberOfSamples{ uint64_t{ 1 } << 32 };
 
   // What the renders are made of (the split, the sampler's tables, the kept points, the passes), and the renders.
   std::unique_ptr<DRRPointRenderSession> m_Session;

@@ -22,6 +22,7 @@
 #include "itkDRRSamplerFactory.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace itk
@@ -192,6 +193,10 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifySettings() const
                                                                     << " or AutomaticControlVariateFactor, not "
                                                                     << m_ControlVariateFactor);
   }
+  if (m_TargetError > 0.0 && !m_ComputeStandardError)
+  {
+    itkExceptionMacro("TargetError needs the standard error it is estimated from: ComputeStandardError is Off");
+  }
   if (m_ControlVariateFactor == 1)
   {
     itkExceptionMacro("ControlVariateFactor 1 would make the coarse image the exact one: use 0 (off), 2 to "
@@ -246,11 +251,27 @@ template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
-  const uint64_t samples = m_Session->BeginPass(m_NumberOfSamples);
-  this->WarnIfTooFewPerStratum(samples);
-  this->UpdateProgress(0.0f);
+  const bool                           refinement = m_Session->GetRefinementSamples() > 0;
+  const uint64_t                       samples = m_Session->BeginPass(m_NumberOfSamples);
   const DRRPointRenderSession::Request request = this->MakeRequest();
-  DRRPointRenderer::Result             result;
+  this->UpdateProgress(0.0f);
+  DRRPassCombination::Estimate estimate = this->RenderPass(request, samples);
+  if (m_TargetError > 0.0 && !refinement)
+  {
+    estimate = this->RefineToTarget(request, std::move(estimate));
+  }
+  this->WriteOutputs(estimate.LineIntegral, &estimate.StandardError);
+  this->WriteChannelOutputs(estimate.ChannelLineIntegral, &estimate.ChannelCovariance);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPassCombination::Estimate
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderPass(const DRRPointRenderSession::Request & request,
+                                                                uint64_t                               samples)
+{
+  this->WarnIfTooFewPerStratum(samples);
+  DRRPointRenderer::Result result;
   if (this->GetNumberOfSlabs() > 1)
   {
     const DRRPointRenderSession::Slabs slabs = this->MakeSlabs();
@@ -264,10 +285,31 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
       m_Session->Render(request, samples, *volume, this->MakeProjection(*volume), this->GetMultiThreader(), this);
   }
   this->CompleteResult(result);
-  const DRRPassCombination::Estimate estimate = m_Session->AddPass(result, samples);
-  this->WriteOutputs(estimate.LineIntegral, &estimate.StandardError);
-  this->WriteChannelOutputs(estimate.ChannelLineIntegral, &estimate.ChannelCovariance);
-  this->UpdateProgress(1.0f);
+  return m_Session->AddPass(result, samples);
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPassCombination::Estimate
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPointRenderSession::Request & request,
+                                                                    DRRPassCombination::Estimate           estimate)
+{
+  // The error of independent passes falls as 1 / sqrt(points): the points missing for the target, a tenth more so
+  // that an estimate a little low does not cost a pass of a few points. Every pass adds at least a tenth of the
+  // points, so the passes end, at the target or at MaximumNumberOfSamples.
+  for (double error = m_Session->GetEstimatedError(); error > m_TargetError; error = m_Session->GetEstimatedError())
+  {
+    const double total = static_cast<double>(m_Session->GetPasses().GetNumberOfSamples());
+    const double wanted = std::ceil(1.1 * total * (error / m_TargetError) * (error / m_TargetError));
+    if (!(wanted <= static_cast<double>(m_MaximumNumberOfSamples)))
+    {
+      itkExceptionMacro("the target error " << m_TargetError << " is not reached within MaximumNumberOfSamples "
+                                            << m_MaximumNumberOfSamples << ": the estimated error is " << error
+                                            << " at " << total << " points, and about " << wanted
+                                            << " would be needed");
+    }
+    estimate = this->RenderPass(request, static_cast<uint64_t>(wanted - total));
+  }
+  return estimate;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -311,6 +353,9 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
      << std::endl;
   os << indent << "ControlVariateRaysPerSide: " << m_ControlVariateRaysPerSide << std::endl;
   os << indent << "ComputeStandardError: " << (m_ComputeStandardError ? "On" : "Off") << std::endl;
+  os << indent << "TargetError: " << m_TargetError << std::endl;
+  os << indent << "MaximumNumberOfSamples: " << m_MaximumNumberOfSamples << std::endl;
+  os << indent << "EstimatedError: " << this->GetEstimatedError() << std::endl;
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "TotalMass (mm^2): " << this->GetTotalMass() << std::endl;
   os << indent << "PointsOnDetector: " << this->GetPointsOnDetector() << std::endl;

@@ -17,7 +17,10 @@
  *=========================================================================*/
 #include "itkDRRPassCombination.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+
 #include <stdexcept>
 
 namespace itk
@@ -95,5 +98,23 @@ DRRPassCombination::Combine() const
     covariance /= total * total;
   }
   return estimate;
+}
+
+double
+DRRPassCombination::ComputeRelativeError(const Estimate & estimate)
+{
+  double sumOfSquares = 0.0;
+  for (const double error : estimate.StandardError)
+  {
+    sumOfSquares += error * error;
+  }
+  if (!(sumOfSquares > 0.0))
+  {
+    return 0.0;
+  }
+  const auto   range = std::minmax_element(estimate.LineIntegral.begin(), estimate.LineIntegral.end());
+  const double width = *range.second - *range.first;
+  const double rms = std::sqrt(sumOfSquares / static_cast<double>(estimate.StandardError.size()));
+  return width > 0.0 ? rms / width : std::numeric_limits<double>::infinity();
 }
 } // namespace itk

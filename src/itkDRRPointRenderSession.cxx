@@ -88,7 +88,9 @@ DRRPointRenderSession::AddPass(const DRRPointRenderer::Result & pass, uint64_t s
   m_Passes.Add(pass, samples);
   m_TotalMass = pass.RoomMass;
   m_PassesTime.Modified();
-  return m_Passes.Combine();
+  DRRPassCombination::Estimate estimate = m_Passes.Combine();
+  m_EstimatedError = DRRPassCombination::ComputeRelativeError(estimate);
+  return estimate;
 }
 
 void
