@@ -319,17 +319,10 @@ protected:
 
   /** Why the filter's settings cannot be streamed, empty if they can: a budget streams only what can be, and
    * NumberOfStreamDivisions > 1 with settings that cannot is refused with this reason. The base's: an input volume
-   * (not a shared model), no label channels, and material channels only if StreamsMaterialChannels(). */
+   * (not a shared model). Labels and channels stream: every slab's model numbers its channels as the whole volume's
+   * (the materials of the table, the labels of the whole label image). */
   virtual std::string
   WhyNotStreamable() const;
-
-  /** True if the filter's streamed render adds up the slabs' material channels (a slab's channels are the whole
-   * volume's: every material of the transfer function's table). False here: a filter says so. */
-  virtual bool
-  StreamsMaterialChannels() const
-  {
-    return false;
-  }
 
   /** False if the next streamed update reads no slab (the point filter's kept points drawn already): the input is
    * then asked for what it holds, not for a slab. */

@@ -85,12 +85,6 @@ protected:
   /** The base's reasons, and the tent kernel's (a tent voxel reaches into the next slab). */
   std::string
   WhyNotStreamable() const override;
-  /** True: the slabs' material channels add up like their images. */
-  bool
-  StreamsMaterialChannels() const override
-  {
-    return true;
-  }
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
