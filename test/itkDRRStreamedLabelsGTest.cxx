@@ -534,6 +534,46 @@ TEST(DRRStreamedLabels, ThePointFilterStreamsLabelAndMaterialChannelsBitForBit)
   }
 }
 
+// `auto` renders channels without a control variate, streamed as unstreamed, even where it would keep one: a volume of
+// water alone, whose residual is nothing (with one, the points would draw no channel at all).
+TEST(DRRStreamedLabels, AutoRendersStreamedChannelsWithoutAControlVariate)
+{
+  HUVolumeType::SpacingType spacing;
+  spacing.Fill(1.0);
+  const auto volume = MakeVolume<HUVolumeType>(
+    { { 16, 16, 32 } }, spacing, Pt(-8.0, -8.0, -16.0), RotationMatrix(Vec(0.0, 0.0, 1.0), 0.0));
+  volume->FillBuffer(0);
+  auto labels = LabelImageType::New();
+  labels->CopyInformation(volume);
+  labels->SetRegions(volume->GetLargestPossibleRegion());
+  labels->Allocate();
+  for (itk::ImageRegionIteratorWithIndex<LabelImageType> it(labels, labels->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    it.Set(static_cast<uint16_t>(1 + (it.GetIndex()[0] >= 8) + 2 * (it.GetIndex()[2] >= 16)));
+  }
+  const auto render = [&](unsigned int slabs) {
+    auto drr = PointType::New();
+    drr->SetInput(volume);
+    drr->SetGeometry(MakeView(ProjectionEnum::Parallel));
+    drr->SetLabelImage(labels);
+    drr->SetLabelChannels(true);
+    drr->SetNumberOfSamples(50000);
+    drr->SetControlVariateFactor(PointType::AutomaticControlVariateFactor);
+    drr->SetNumberOfStreamDivisions(slabs);
+    drr->Update();
+    EXPECT_EQ(drr->GetNumberOfSlabs(), slabs);
+    return ImagesOf(*drr);
+  };
+  const auto whole = render(1);
+  ASSERT_GT(*std::max_element(whole[2].begin(), whole[2].end()), 0.1);
+  const auto streamed = render(2);
+  for (size_t i = 0; i < whole.size(); ++i)
+  {
+    EXPECT_EQ(streamed[i], whole[i]) << "image " << i;
+  }
+}
+
 // The exact filter streams label channels: the slabs' channel images add up to the unstreamed ones (to rounding), in
 // the whole volume's channels; the label image, which numbers them, is read whole once.
 TEST(DRRStreamedLabels, TheExactFilterStreamsLabelChannels)
@@ -612,6 +652,11 @@ TEST(DRRStreamedLabels, WhatCannotStreamIsRefusedByName)
   exact->SetKeptLabels({});
   EXPECT_NO_THROW(exact->Update());
   EXPECT_EQ(exact->GetChannelLabels(), (itk::DRRLabelSelection::LabelListType{ 0, 1, 2, 3, 4, 7 }));
+  // A new selection numbers the channels anew.
+  exact->SetDroppedLabels({ 2 });
+  EXPECT_NO_THROW(exact->Update());
+  EXPECT_EQ(exact->GetChannelLabels(), (itk::DRRLabelSelection::LabelListType{ 0, 1, 3, 4, 7 }));
+  exact->SetDroppedLabels({});
 
   // More channels than a render holds, and a label image of another volume, streamed as unstreamed.
   auto many = LabelImageType::New();
