@@ -250,9 +250,9 @@ public:
    * as MetaImage's, NRRD's or uncompressed NIfTI's, reads only that slab), so that the render holds one slab and its
    * attenuation model at a time. The projection is the sum of the slabs' (each filter says how exactly). 1 (the
    * default) reads the whole volume at once; a filter may round slabs to whole blocks of planes, and makes at most one
-   * slab per block. The filter's preprocessing stage models each slab (its voxels, labels and materials); kept and
-   * dropped labels stream, label channels and a shared attenuation volume do not, material channels where the filter
-   * sums them (the exact filter). */
+   * slab per block. The filter's preprocessing stage models each slab (its voxels, labels and materials); labels
+   * and channels stream (label channels numbered by the labels of the whole label image, read whole), a shared
+   * attenuation volume does not. */
   itkSetClampMacro(NumberOfStreamDivisions, unsigned int, 1, NumericTraits<unsigned int>::max());
   itkGetConstMacro(NumberOfStreamDivisions, unsigned int);
   ///@}

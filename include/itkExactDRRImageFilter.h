@@ -90,7 +90,8 @@ protected:
 
 private:
   /** The projection as the sum of the slabs' projections, each slab requested from the pipeline and modelled alone;
-   * channels: the sums of the slabs' channel images (K per pixel, pixel major; empty with one channel or none). */
+   * channels: the sums of the slabs' channel images (K per pixel, pixel major; empty with one channel or none): every
+   * slab's channels are the whole volume's. */
   std::vector<double>
   RenderStreamed(std::vector<double> & channels);
 
