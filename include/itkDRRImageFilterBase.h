@@ -250,9 +250,9 @@ public:
    * as MetaImage's, NRRD's or uncompressed NIfTI's, reads only that slab), so that the render holds one slab and its
    * attenuation model at a time. The projection is the sum of the slabs' (each filter says how exactly). 1 (the
    * default) reads the whole volume at once; a filter may round slabs to whole blocks of planes, and makes at most one
-   * slab per block. The filter's preprocessing stage models each slab (its voxels, labels and materials); kept and
-   * dropped labels stream, label channels and a shared attenuation volume do not, material channels where the filter
-   * sums them (the exact filter). */
+   * slab per block. The filter's preprocessing stage models each slab (its voxels, labels and materials); labels
+   * and channels stream (label channels numbered by the labels of the whole label image, read whole), a shared
+   * attenuation volume does not. */
   itkSetClampMacro(NumberOfStreamDivisions, unsigned int, 1, NumericTraits<unsigned int>::max());
   itkGetConstMacro(NumberOfStreamDivisions, unsigned int);
   ///@}
@@ -278,9 +278,9 @@ public:
 
   /** Why the filter's settings cannot be streamed, empty if they can: a budget streams only what can be, and
    * NumberOfStreamDivisions > 1 with settings that cannot is refused with this reason. The base's: no shared
-   * attenuation volume (it is whole already), no label channels, and material channels only if
-   * StreamsMaterialChannels(). Public, and asked of the settings alone (no input is needed), so that a program asks a
-   * configured filter before it reads the volume. */
+   * attenuation volume (it is whole already). Labels and channels stream: every slab's model numbers its channels as
+   * the whole volume's (the materials of the table, the labels of the whole label image). Public, and asked of the
+   * settings alone (no input is needed), so that a program asks a configured filter before it reads the volume. */
   virtual std::string
   WhyNotStreamable() const;
 
@@ -325,13 +325,6 @@ protected:
   void
   VerifyPreconditions() const override;
 
-  /** True if the filter's streamed render adds up the slabs' material channels (a slab's channels are the whole
-   * volume's: every material of the transfer function's table). False here: a filter says so. */
-  virtual bool
-  StreamsMaterialChannels() const
-  {
-    return false;
-  }
 
   /** False if the next streamed update reads no slab (the point filter's kept points drawn already): the input is
    * then asked for what it holds, not for a slab. */

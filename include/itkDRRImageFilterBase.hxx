@@ -215,9 +215,11 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GenerateInputRequestedRegion()
   auto * labels = const_cast<LabelImageType *>(this->GetLabelImage());
   if (labels && input)
   {
-    // The labels of the voxels asked for: the same planes of labels on the volume's grid, else the whole image.
-    labels->SetRequestedRegion(
-      AttenuationVolumeFilterType::LabelRegionOf(*input, *labels, input->GetRequestedRegion()));
+    // The labels of the voxels asked for: the same planes of labels on the volume's grid, else (and for label
+    // channels, numbered by the labels of the whole volume) the whole image.
+    labels->SetRequestedRegion(this->GetLabelChannels() ? labels->GetLargestPossibleRegion()
+                                                        : AttenuationVolumeFilterType::LabelRegionOf(
+                                                            *input, *labels, input->GetRequestedRegion()));
   }
   else if (labels)
   {
@@ -338,15 +340,6 @@ DRRImageFilterBase<TInputImage, TOutputImage>::WhyNotStreamable() const
   if (this->GetSharedAttenuationVolume())
   {
     return "streaming reads the input volume slab by slab: a shared attenuation volume is already whole";
-  }
-  if (this->GetLabelChannels())
-  {
-    return "streaming renders no label channels: a slab's channels would be the labels it holds, not the volume's";
-  }
-  if (this->GetMaterialChannels() && !this->StreamsMaterialChannels())
-  {
-    return std::string("streaming renders no material channels in ") + this->GetNameOfClass() +
-           " (ExactDRRImageFilter's does)";
   }
   return {};
 }

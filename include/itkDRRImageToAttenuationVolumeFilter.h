@@ -208,8 +208,8 @@ protected:
   MakeOutput(DataObjectPointerArraySizeType index) override;
 
   /** Requests the model's region of the volume (the output's requested region) and the label image's matching
-   * region, after VerifyInputFile(); frees the input's buffer first if its source makes the region anew (else the new
-   * slab would be allocated beside the last). */
+   * region (the whole image for label channels, which its labels number), after VerifyInputFile(); frees the input's
+   * buffer first if its source makes the region anew (else the new slab would be allocated beside the last). */
   void
   GenerateInputRequestedRegion() override;
   /** The model's largest possible region: the input's. */
@@ -244,10 +244,25 @@ private:
                   const RegionType &     region,
                   const RegionType &     largest,
                   OutputType &           volume);
+  /** The label channels of a slab: numbered by the labels of the whole volume (GetWholeChannelLabels()), as the
+   * whole volume's model numbers them, not by the slab's own. */
+  void
+  ApplySlabLabelChannels(const InputImageType & input,
+                         const LabelPixelType * labels,
+                         const RegionType &     region,
+                         OutputType &           volume);
+  /** The labels of the channels of the whole volume (the attenuating labels present in it), found once for the slabs:
+   * again only if the labels, the input or the selection changed since. planes: the planes resampled at a time. */
+  const LabelListType &
+  GetWholeChannelLabels(const InputImageType & input, SizeValueType planes);
   /** The labels of region's voxels on the volume's grid: the label image itself, or its region's voxels resampled by
-   * nearest neighbour (label 0 outside). first is set to the label of region's first voxel. */
+   * nearest neighbour (label 0 outside; the resampling warned of at the first plane unless warn is false). first is
+   * set to the label of region's first voxel. */
   typename LabelImageType::ConstPointer
-  LabelsOnVolumeGrid(const InputImageType & input, const RegionType & region, const LabelPixelType *& first) const;
+  LabelsOnVolumeGrid(const InputImageType &  input,
+                     const RegionType &      region,
+                     const LabelPixelType *& first,
+                     bool                    warn = true) const;
   /** True if labels lie on input's grid (size, origin, spacing and direction, to a tolerance). */
   static bool
   IsOnVolumeGrid(const InputImageType & input, const LabelImageType & labels);
@@ -266,6 +281,9 @@ private:
   ModifiedTimeType                  m_CheckedInputFileTime{ 0 };
   DRRLabelSelection::LabelFlagsType m_LabelsInSlabs;
   IndexValueType                    m_NextSlabPlane{ 0 };
+  // The whole volume's channel labels for the slabs, and when they were found.
+  LabelListType m_WholeChannelLabels;
+  TimeStamp     m_WholeChannelLabelsTime;
 };
 } // namespace itk
 

@@ -120,7 +120,9 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::GenerateInputRequestedRegion()
   input->SetRequestedRegion(region);
   if (auto * labels = const_cast<LabelImageType *>(this->GetLabelImage()))
   {
-    labels->SetRequestedRegion(LabelRegionOf(*input, *labels, region));
+    // Label channels are numbered by the labels of the whole volume: a slab of them reads the whole label image.
+    labels->SetRequestedRegion(m_LabelChannels ? labels->GetLargestPossibleRegion()
+                                               : LabelRegionOf(*input, *labels, region));
   }
 }
 
@@ -337,14 +339,14 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::ApplyLabels(const InputImageType
   {
     return;
   }
-  const RegionType largest = input.GetLargestPossibleRegion();
-  if (region != largest && m_LabelChannels)
-  {
-    itkExceptionMacro("label channels need the whole volume modelled at once: a slab's channels would be the labels "
-                      "it holds, not the volume's");
-  }
+  const RegionType                            largest = input.GetLargestPossibleRegion();
   const LabelPixelType *                      first = nullptr;
   const typename LabelImageType::ConstPointer labels = this->LabelsOnVolumeGrid(input, region, first);
+  if (region != largest && m_LabelChannels)
+  {
+    this->ApplySlabLabelChannels(input, first, region, volume);
+    return;
+  }
   if (region != largest)
   {
     this->ApplySlabLabels(first, region, largest, volume);
@@ -393,10 +395,59 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::ApplySlabLabels(const LabelPixel
 }
 
 template <typename TInputImage>
+void
+DRRImageToAttenuationVolumeFilter<TInputImage>::ApplySlabLabelChannels(const InputImageType & input,
+                                                                       const LabelPixelType * labels,
+                                                                       const RegionType &     region,
+                                                                       OutputType &           volume)
+{
+  // The whole volume's labels check the kept and dropped ones (the slab's need not hold them) and number the channels.
+  const LabelListType channelLabels = this->GetWholeChannelLabels(input, region.GetSize()[2]);
+  const auto          present = DRRLabelSelection::FindPresent(labels, volume, this->GetMultiThreader());
+  DRRLabelSelection::ApplyChannelsToSlab(
+    labels, present, channelLabels, m_KeptLabels, m_DroppedLabels, volume, this->GetMultiThreader());
+  volume.SetChannelLabels(channelLabels);
+}
+
+template <typename TInputImage>
+auto
+DRRImageToAttenuationVolumeFilter<TInputImage>::GetWholeChannelLabels(const InputImageType & input,
+                                                                      SizeValueType planes) -> const LabelListType &
+{
+  // The input's own time changes with every slab read: its source's is the one that counts.
+  const LabelImageType * labelImage = this->GetLabelImage();
+  const auto             timeOf = [](const DataObject & image) {
+    return image.GetSource() ? image.GetPipelineMTime() : image.GetMTime();
+  };
+  const ModifiedTimeType madeOf = std::max({ this->GetMTime(), timeOf(*labelImage), timeOf(input) });
+  if (!m_WholeChannelLabels.empty() && madeOf < m_WholeChannelLabelsTime.GetMTime())
+  {
+    return m_WholeChannelLabels;
+  }
+  // planes at a time: resampled labels off the volume's grid are never held whole.
+  const RegionType                  largest = input.GetLargestPossibleRegion();
+  DRRLabelSelection::LabelFlagsType present(size_t{ 1 } << 16, 0);
+  for (SizeValueType plane = 0; plane < largest.GetSize()[2]; plane += planes)
+  {
+    RegionType part = largest;
+    part.SetIndex(2, largest.GetIndex()[2] + static_cast<IndexValueType>(plane));
+    part.SetSize(2, std::min(planes, largest.GetSize()[2] - plane));
+    const LabelPixelType * first = nullptr;
+    const auto             labels = this->LabelsOnVolumeGrid(input, part, first, false);
+    const auto partPresent = DRRLabelSelection::FindPresent(first, part.GetNumberOfPixels(), this->GetMultiThreader());
+    std::transform(present.begin(), present.end(), partPresent.begin(), present.begin(), std::bit_or<uint8_t>());
+  }
+  m_WholeChannelLabels = DRRLabelSelection::Verify(present, m_KeptLabels, m_DroppedLabels);
+  m_WholeChannelLabelsTime.Modified();
+  return m_WholeChannelLabels;
+}
+
+template <typename TInputImage>
 auto
 DRRImageToAttenuationVolumeFilter<TInputImage>::LabelsOnVolumeGrid(const InputImageType &  input,
                                                                    const RegionType &      region,
-                                                                   const LabelPixelType *& first) const ->
+                                                                   const LabelPixelType *& first,
+                                                                   bool                    warn) const ->
   typename LabelImageType::ConstPointer
 {
   const LabelImageType * labels = this->GetLabelImage();
@@ -422,7 +473,7 @@ DRRImageToAttenuationVolumeFilter<TInputImage>::LabelsOnVolumeGrid(const InputIm
     itkExceptionMacro("the whole label image must be buffered");
   }
   this->VerifyLabelsCoverVolume(input, *labels);
-  if (region.GetIndex()[2] == largest.GetIndex()[2])
+  if (warn && region.GetIndex()[2] == largest.GetIndex()[2])
   {
     // Once per volume, not once per slab.
     itkWarningMacro("the label image (size " << labelRegion.GetSize() << ", spacing " << labels->GetSpacing()

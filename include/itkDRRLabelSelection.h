@@ -70,6 +70,9 @@ public:
    * blocks. */
   static LabelFlagsType
   FindPresent(const LabelType * labels, const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
+  /** The same for numberOfVoxels labels of no model (the whole label image, for a slab's channels). */
+  static LabelFlagsType
+  FindPresent(const LabelType * labels, uint64_t numberOfVoxels, MultiThreaderBase * threader);
 
   /** Throws for a kept or dropped label not present, and for a selection that leaves no label present. Returns the
    * labels that attenuate, in increasing order. */
@@ -77,8 +80,7 @@ public:
   Verify(const LabelFlagsType & present, const LabelListType & keptLabels, const LabelListType & droppedLabels);
 
   /** Apply() without its checks, for a slab of the volume whose labels are not all the volume's (present: the slab's;
-   * the stage checks the union of the slabs'): masks the voxels of labels left out, every voxel when none is left.
-   * Throws for channels, which the volume's labels number. */
+   * the stage checks the union of the slabs'): masks the voxels of labels left out, every voxel when none is left. */
   static void
   ApplyToSlab(const LabelType *      labels,
               const LabelFlagsType & present,
@@ -86,6 +88,18 @@ public:
               const LabelListType &  droppedLabels,
               DRRAttenuationVolume & volume,
               MultiThreaderBase *    threader);
+
+  /** ApplyToSlab() with channels: gives every voxel of the slab the channel of its label in channelLabels, the whole
+   * volume's (Verify() of the labels present in the whole volume), so that every slab numbers the channels alike, as
+   * Apply() numbers them on the whole volume. Throws for more than MaximumNumberOfChannels channels. */
+  static void
+  ApplyChannelsToSlab(const LabelType *      labels,
+                      const LabelFlagsType & present,
+                      const LabelListType &  channelLabels,
+                      const LabelListType &  keptLabels,
+                      const LabelListType &  droppedLabels,
+                      DRRAttenuationVolume & volume,
+                      MultiThreaderBase *    threader);
 
   /** "1, 3, 7": a list of labels for messages and metadata. */
   static std::string

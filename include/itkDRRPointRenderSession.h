@@ -234,6 +234,9 @@ private:
   static DRRPointRenderer::Settings
   MakePassSettings(const Request & request, uint64_t samples, unsigned int pass, const DRRAttenuationVolume * sampled);
 
+  /** Throws for a chosen F with channels (more than one): they render without a control variate. */
+  static void
+  RefuseChosenFactorForChannels(const Request & request);
   unsigned int
   ResolveFactor(const Request &              request,
                 const DRRAttenuationVolume & volume,

@@ -86,18 +86,13 @@ protected:
   /** Integrates k x k rays per pixel through the volume (slab by slab when streaming) and writes the output. */
   void
   GenerateData() override;
-  /** True: the slabs' material channels add up like their images. */
-  bool
-  StreamsMaterialChannels() const override
-  {
-    return true;
-  }
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
 private:
   /** The projection as the sum of the slabs' projections, each slab requested from the pipeline and modelled alone;
-   * channels: the sums of the slabs' channel images (K per pixel, pixel major; empty with one channel or none). */
+   * channels: the sums of the slabs' channel images (K per pixel, pixel major; empty with one channel or none): every
+   * slab's channels are the whole volume's. */
   std::vector<double>
   RenderStreamed(std::vector<double> & channels);
 

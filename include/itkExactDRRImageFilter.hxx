@@ -84,7 +84,7 @@ ExactDRRImageFilter<TInputImage, TOutputImage>::RenderStreamed(std::vector<doubl
     {
       image[p] += part[p];
     }
-    // Material channels, the only ones streamed: the same K channels in every slab (the table's materials).
+    // The same K channels in every slab: the table's materials, or the labels of the whole label image.
     channels.resize(partChannels.size(), 0.0);
     for (size_t c = 0; c < partChannels.size(); ++c)
     {

@@ -55,7 +55,8 @@ namespace itk
  *
  * Streaming (SetNumberOfStreamDivisions(), SetMemoryBudget()): the volume is read from the pipeline slab by slab and
  * each slab draws its share of the stratified sampler's points, the same points as the render of the whole volume, so
- * the image is the same bit for bit (docs/design.md section 16). Other samplers and kept points are not streamed.
+ * the image (with its label or material channels) is the same bit for bit (docs/design.md section 16). Other samplers
+ * are not streamed.
  *
  * \sa ExactDRRImageFilter, DRRProjectionGeometry, DRRLevelAliasSampler
  * \ingroup PointBasedDRR

@@ -50,16 +50,24 @@ VerifyPresent(const DRRLabelSelection::LabelListType & listed, const std::vector
     }
   }
 }
-/** Runs f(block, first voxel, end voxel) for every fixed block of volume, in parallel. */
+/** Runs f(block, first voxel, end voxel) for every block of the fixed partition of numberOfVoxels, in parallel. */
+void
+ForEachBlock(uint64_t                                                  numberOfVoxels,
+             MultiThreaderBase *                                       threader,
+             const std::function<void(uint64_t, uint64_t, uint64_t)> & f)
+{
+  const uint64_t blocks = DRRAttenuationVolume::ComputeNumberOfBlocks(numberOfVoxels);
+  DRRAttenuationVolume::ParallelizeBlocks(
+    blocks, [&](uint64_t b) { f(b, numberOfVoxels * b / blocks, numberOfVoxels * (b + 1) / blocks); }, threader);
+}
+
+/** The same over the blocks of volume. */
 void
 ForEachBlock(const DRRAttenuationVolume &                              volume,
              MultiThreaderBase *                                       threader,
              const std::function<void(uint64_t, uint64_t, uint64_t)> & f)
 {
-  DRRAttenuationVolume::ParallelizeBlocks(
-    volume.GetNumberOfBlocks(),
-    [&](uint64_t b) { f(b, volume.GetBlockBegin(b), volume.GetBlockBegin(b + 1)); },
-    threader);
+  ForEachBlock(volume.GetNumberOfVoxels(), threader, f);
 }
 
 /** A flag per label value: 1 if its voxels attenuate (kept, every label when none is listed, and not dropped). */
@@ -104,6 +112,39 @@ MaskLeftOut(const DRRLabelSelection::LabelType *      labels,
   });
   volume.ApplyVoxelMask(keep.get(), threader);
 }
+
+/** Gives every voxel the channel of its label (channelLabels: the labels of the channels, in channel order). */
+void
+AssignChannels(const DRRLabelSelection::LabelType *     labels,
+               const DRRLabelSelection::LabelListType & channelLabels,
+               DRRAttenuationVolume &                   volume,
+               MultiThreaderBase *                      threader)
+{
+  if (channelLabels.size() > DRRLabelSelection::MaximumNumberOfChannels)
+  {
+    itkGenericExceptionMacro("" << channelLabels.size() << " labels would make " << channelLabels.size()
+                                << " channels; a render holds at most " << DRRLabelSelection::MaximumNumberOfChannels
+                                << ": keep fewer labels");
+  }
+  if (channelLabels.size() <= 1)
+  {
+    return; // one channel is the image itself
+  }
+  std::vector<uint8_t> channelOfLabel(numberOfLabelValues, 0);
+  for (size_t c = 0; c < channelLabels.size(); ++c)
+  {
+    channelOfLabel[channelLabels[c]] = static_cast<uint8_t>(c);
+  }
+  std::vector<uint8_t> channelOfVoxel(volume.GetNumberOfVoxels());
+  ForEachBlock(volume, threader, [&](uint64_t, uint64_t begin, uint64_t end) {
+    for (uint64_t v = begin; v < end; ++v)
+    {
+      // A voxel left out is air and never drawn: its channel does not matter.
+      channelOfVoxel[v] = channelOfLabel[labels[v]];
+    }
+  });
+  volume.SetVoxelChannels(std::move(channelOfVoxel), static_cast<unsigned int>(channelLabels.size()));
+}
 } // namespace
 
 std::string
@@ -122,10 +163,15 @@ DRRLabelSelection::FindPresent(const LabelType *            labels,
                                const DRRAttenuationVolume & volume,
                                MultiThreaderBase *          threader)
 {
-  // Per block of the volume's fixed partition, in parallel (a serial pass took seconds on a 577 M voxel CT), then
-  // merged.
-  std::vector<LabelFlagsType> presentInBlock(volume.GetNumberOfBlocks());
-  ForEachBlock(volume, threader, [&](uint64_t b, uint64_t begin, uint64_t end) {
+  return FindPresent(labels, volume.GetNumberOfVoxels(), threader);
+}
+
+DRRLabelSelection::LabelFlagsType
+DRRLabelSelection::FindPresent(const LabelType * labels, uint64_t numberOfVoxels, MultiThreaderBase * threader)
+{
+  // Per block of the fixed partition, in parallel (a serial pass took seconds on a 577 M voxel CT), then merged.
+  std::vector<LabelFlagsType> presentInBlock(DRRAttenuationVolume::ComputeNumberOfBlocks(numberOfVoxels));
+  ForEachBlock(numberOfVoxels, threader, [&](uint64_t b, uint64_t begin, uint64_t end) {
     presentInBlock[b].assign(numberOfLabelValues, 0);
     for (uint64_t v = begin; v < end; ++v)
     {
@@ -176,6 +222,19 @@ DRRLabelSelection::ApplyToSlab(const LabelType *      labels,
   MaskLeftOut(labels, present, Attenuates(keptLabels, droppedLabels), volume, threader);
 }
 
+void
+DRRLabelSelection::ApplyChannelsToSlab(const LabelType *      labels,
+                                       const LabelFlagsType & present,
+                                       const LabelListType &  channelLabels,
+                                       const LabelListType &  keptLabels,
+                                       const LabelListType &  droppedLabels,
+                                       DRRAttenuationVolume & volume,
+                                       MultiThreaderBase *    threader)
+{
+  MaskLeftOut(labels, present, Attenuates(keptLabels, droppedLabels), volume, threader);
+  AssignChannels(labels, channelLabels, volume, threader);
+}
+
 DRRLabelSelection::LabelListType
 DRRLabelSelection::Apply(const LabelType *      labels,
                          const LabelListType &  keptLabels,
@@ -191,29 +250,7 @@ DRRLabelSelection::Apply(const LabelType *      labels,
   {
     return {};
   }
-  if (selected.size() > MaximumNumberOfChannels)
-  {
-    itkGenericExceptionMacro("" << selected.size() << " labels would make " << selected.size()
-                                << " channels; a render holds at most " << MaximumNumberOfChannels
-                                << ": keep fewer labels");
-  }
-  if (selected.size() > 1)
-  {
-    std::vector<uint8_t> channelOfLabel(numberOfLabelValues, 0);
-    for (size_t c = 0; c < selected.size(); ++c)
-    {
-      channelOfLabel[selected[c]] = static_cast<uint8_t>(c);
-    }
-    std::vector<uint8_t> channelOfVoxel(volume.GetNumberOfVoxels());
-    ForEachBlock(volume, threader, [&](uint64_t, uint64_t begin, uint64_t end) {
-      for (uint64_t v = begin; v < end; ++v)
-      {
-        // A voxel left out is air and never drawn: its channel does not matter.
-        channelOfVoxel[v] = channelOfLabel[labels[v]];
-      }
-    });
-    volume.SetVoxelChannels(std::move(channelOfVoxel), static_cast<unsigned int>(selected.size()));
-  }
+  AssignChannels(labels, selected, volume, threader);
   return selected;
 }
 } // namespace itk

@@ -123,6 +123,18 @@ DRRPointRenderSession::ControlVariateApplies(const Request & request)
          request.Settings.Weighting == DRRPointRenderer::WeightingEnum::Unbiased;
 }
 
+void
+DRRPointRenderSession::RefuseChosenFactorForChannels(const Request & request)
+{
+  // The coarse image mixes the labels of a block: channels render without a control variate.
+  if (request.ControlVariateFactor != 0 && request.ControlVariateFactor != DRRControlVariate::AutomaticFactor)
+  {
+    itkGenericExceptionMacro("label channels are rendered without a control variate (its coarse blocks mix "
+                             "labels): set ControlVariateFactor to 0 or AutomaticControlVariateFactor, not "
+                             << request.ControlVariateFactor);
+  }
+}
+
 unsigned int
 DRRPointRenderSession::ResolveFactor(const Request &              request,
                                      const DRRAttenuationVolume & volume,
@@ -130,13 +142,7 @@ DRRPointRenderSession::ResolveFactor(const Request &              request,
 {
   if (volume.GetNumberOfChannels() > 1)
   {
-    // The coarse image mixes the labels of a block: channels render without a control variate.
-    if (request.ControlVariateFactor != 0 && request.ControlVariateFactor != DRRControlVariate::AutomaticFactor)
-    {
-      itkGenericExceptionMacro("label channels are rendered without a control variate (its coarse blocks mix "
-                               "labels): set ControlVariateFactor to 0 or AutomaticControlVariateFactor, not "
-                               << request.ControlVariateFactor);
-    }
+    RefuseChosenFactorForChannels(request);
     return 0;
   }
   if (request.ControlVariateFactor != DRRControlVariate::AutomaticFactor || !ControlVariateApplies(request))

@@ -49,8 +49,9 @@ public:
     , m_MassBefore(slabs.NumberOfSlabs, 0.0)
   {}
 
-  /** First pass: the view's mass along the curve before each slab, the whole volume's mass and the coarse volume; for
-   * `auto`, the pass again without a control variate if the split is declined. */
+  /** First pass: the view's mass along the curve before each slab, the whole volume's mass and the coarse volume, and
+   * the channels of the slabs' models; for `auto`, the pass again without a control variate if the split is declined.
+   */
   void
   MeasureSlabs(unsigned int factor)
   {
@@ -59,6 +60,7 @@ public:
     {
       m_Factor = 0; // `auto` declines as the unstreamed render does (Prepare())
     }
+    m_Settings.NumberOfChannels = m_NumberOfChannels;
   }
 
   /** Second pass: every slab draws its window of the run's samples into the whole render's sums, or into kept points
@@ -117,6 +119,7 @@ private:
     m_ViewMass = 0.0;
     m_ViewVoxels = 0;
     m_SampledTotal = 0.0;
+    m_NumberOfChannels = 0;
     m_ControlVariate = nullptr;
     if (m_Factor != 0)
     {
@@ -132,6 +135,10 @@ private:
     {
       this->CheckAbort();
       this->ReadSlab(slab);
+      if (!this->CountChannels(slab))
+      {
+        return false; // channels: `auto` declines its split, as the unstreamed render does (ResolveFactor())
+      }
       Placement placement;
       placement.FirstPlane = m_Slabs.FirstPlane(slab);
       placement.MassBefore = m_ViewMass;
@@ -155,6 +162,28 @@ private:
     return !declined;
   }
 
+  /** The slabs' channels are the whole volume's: every slab's model numbers them alike (the labels of the whole label
+   * image, the materials of the table), which a slab's own labels would not. False if they decline the split: the
+   * number of channels is known from the first slab read, after F was chosen. */
+  bool
+  CountChannels(unsigned int slab)
+  {
+    const unsigned int channels = m_SlabVolume->GetNumberOfChannels();
+    if (m_NumberOfChannels != 0 && channels != m_NumberOfChannels)
+    {
+      itkGenericExceptionMacro("the model of slab " << slab << " has " << channels << " channels, the first slab's "
+                                                    << m_NumberOfChannels
+                                                    << ": the slabs' channels must be numbered as the whole volume's");
+    }
+    m_NumberOfChannels = channels;
+    if (channels > 1 && m_Factor != 0)
+    {
+      RefuseChosenFactorForChannels(m_Request);
+      return false;
+    }
+    return true;
+  }
+
   void
   DrawSlab(unsigned int                         slab,
            const DRRPointSampler::SampleRange & run,
@@ -175,12 +204,13 @@ private:
     {
       DRRPointRenderer::Settings slabSettings = m_Settings;
       slabSettings.SignedResidual = residual;
+      slabSettings.VoxelChannels = m_SlabVolume->GetVoxelChannels();
       DRRStreamedPointRender::DrawSlab(
         *cloud, slabSettings, *plan, *m_Sampler, window, placement.FirstPlane, m_Threader, nullptr);
     }
     else
     {
-      render->AddSlab(*plan, *m_Sampler, window, placement.FirstPlane, residual);
+      render->AddSlab(*plan, *m_Sampler, window, placement.FirstPlane, residual, m_SlabVolume->GetVoxelChannels());
     }
   }
 
@@ -238,13 +268,13 @@ private:
     }
   }
 
-  const Request &                    m_Request;
-  const DRRPointRenderer::Settings & m_Settings;
-  const Slabs &                      m_Slabs;
-  const DRRPointProjection &         m_Projection;
-  MultiThreaderBase *                m_Threader;
-  ProcessObject *                    m_Caller;
-  const bool                         m_KeepPoints;
+  const Request &            m_Request;
+  DRRPointRenderer::Settings m_Settings; // with the slabs' number of channels once measured
+  const Slabs &              m_Slabs;
+  const DRRPointProjection & m_Projection;
+  MultiThreaderBase *        m_Threader;
+  ProcessObject *            m_Caller;
+  const bool                 m_KeepPoints;
 
   unsigned int                  m_Factor{ 0 };
   DRRAttenuationVolume::Pointer m_SlabVolume;
@@ -254,7 +284,8 @@ private:
   std::vector<double>        m_MassBefore; // the view's mass along the curve before each slab, 1/mm
   double                     m_ViewMass{ 0.0 };
   uint64_t                   m_ViewVoxels{ 0 };
-  double                     m_SampledTotal{ 0.0 }; // the mass the sampler draws from (the residual's with F), 1/mm
+  double                     m_SampledTotal{ 0.0 };   // the mass the sampler draws from (the residual's with F), 1/mm
+  unsigned int               m_NumberOfChannels{ 0 }; // of every slab's model
   unsigned int               m_LastSlabInView{ 0 };
   DRRControlVariate::Pointer m_ControlVariate;
 };

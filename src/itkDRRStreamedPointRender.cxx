@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkDRRStreamedPointRender.h"
 #include "itkDRRDrawAndSplatChunks.h"
+#include "itkDRRLabelSelection.h"
 #include "itkDRRPolicies.h"
 #include "itkDRRRenderPlan.h"
 #include "itkDRRRenderReduction.h"
@@ -53,9 +54,10 @@ DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings 
                                                MultiThreaderBase *                threader)
 {
   VerifyNumberOfSamples(settings);
-  if (settings.NumberOfChannels > 1 || settings.VoxelChannels)
+  if (settings.NumberOfChannels < 1 || settings.NumberOfChannels > DRRLabelSelection::MaximumNumberOfChannels)
   {
-    itkGenericExceptionMacro("DRRStreamedPointRender: channels are not streamed");
+    itkGenericExceptionMacro("DRRStreamedPointRender: the number of channels must be 1 to "
+                             << DRRLabelSelection::MaximumNumberOfChannels << ", not " << settings.NumberOfChannels);
   }
   if (!threader)
   {
@@ -65,7 +67,7 @@ DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings 
   State & state = *m_State;
   state.Traits = traits;
   state.Threader = threader;
-  state.Result = ZeroResult(projection);
+  state.Result = ZeroResult(projection, settings.NumberOfChannels);
   // The box the kernel's points reach in the whole volume.
   std::array<double, 3> lower, upper;
   KernelSupport(settings.Kernel, wholeSize, lower, upper);
@@ -76,7 +78,8 @@ DRRStreamedPointRender::DRRStreamedPointRender(const DRRPointRenderer::Settings 
                                 settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased,
                                 state.Projection,
                                 state.Result);
-  PrepareWorkers(state.Workspace, state.RunStrata, 1, state.Result.LineIntegral.size(), threader);
+  PrepareWorkers(
+    state.Workspace, state.RunStrata, settings.NumberOfChannels, state.Result.LineIntegral.size(), threader);
 }
 
 DRRStreamedPointRender::~DRRStreamedPointRender() = default;
@@ -114,7 +117,8 @@ DRRStreamedPointRender::AddSlab(const DRRSamplerViewPlan &    plan,
                                 const DRRPointSampler &       sampler,
                                 const std::array<uint64_t, 2> window,
                                 uint64_t                      firstPlane,
-                                const DRRAttenuationVolume *  signedResidual)
+                                const DRRAttenuationVolume *  signedResidual,
+                                const uint8_t *               voxelChannels)
 {
   State & state = *m_State;
   if (state.Finished)
@@ -132,6 +136,11 @@ DRRStreamedPointRender::AddSlab(const DRRSamplerViewPlan &    plan,
     itkGenericExceptionMacro("DRRStreamedPointRender: samples [" << window[0] << ", " << window[1] << ") or plane "
                                                                  << firstPlane << " lie outside the render");
   }
+  if (state.Settings.NumberOfChannels > 1 && !voxelChannels)
+  {
+    itkGenericExceptionMacro("DRRStreamedPointRender: a slab of " << state.Settings.NumberOfChannels
+                                                                  << " channels needs the channel of its voxels");
+  }
   if (window[0] == window[1])
   {
     return; // nothing of the view in this slab
@@ -143,7 +152,9 @@ DRRStreamedPointRender::AddSlab(const DRRSamplerViewPlan &    plan,
       const PointDrawer<decltype(kernel)>  drawer(sampler, plan, state.Traits, settings.Seed, signedResidual, slab);
       const PointSplatter<decltype(splat)> splatter(
         state.Projection, state.Scales, settings.Weighting == PointBasedDRREnums::PointWeighting::Unbiased);
-      const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(drawer, splatter, nullptr, 1);
+      // The slab's voxel channels are its own voxels' (slab-local indices, as the drawer's), numbered as the whole's.
+      const DrawAndSplatChunks<decltype(kernel), decltype(splat)> work(
+        drawer, splatter, voxelChannels, settings.NumberOfChannels);
       RunChunks(work, state.RunStrata, state.Workspace, state.Threader, nullptr, drawer.GetChunks(state.RunStrata));
       return 0;
     });
@@ -239,15 +250,18 @@ DRRStreamedPointRender::Finish(double totalMass, double sampledMass)
   if (!(state.Result.SampledRoomMass > 0.0))
   {
     // All air, or nothing in view: the exact answer is a zero image (as DRRPointRenderer::Render() returns it).
-    DRRPointRenderer::Result zero = ZeroResult(state.Projection);
+    DRRPointRenderer::Result zero = ZeroResult(state.Projection, state.Settings.NumberOfChannels);
     zero.RoomMass = state.Result.RoomMass;
     zero.SampledRoomMass = state.Result.SampledRoomMass;
     return zero;
   }
-  {
-    Reduce(
-      state.Workspace, state.RunStrata, 1, state.Scales, state.Projection.GetPixelArea(), state.Threader, state.Result);
-  }
+  Reduce(state.Workspace,
+         state.RunStrata,
+         state.Settings.NumberOfChannels,
+         state.Scales,
+         state.Projection.GetPixelArea(),
+         state.Threader,
+         state.Result);
   return std::move(state.Result);
 }
 } // namespace itk

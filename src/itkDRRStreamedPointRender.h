@@ -49,7 +49,8 @@ class PointBasedDRR_EXPORT DRRStreamedPointRender
 public:
   ITK_DISALLOW_COPY_AND_MOVE(DRRStreamedPointRender);
 
-  /** Begins a render of settings (channels are not streamed) over a volume of wholeSize voxels, seen through
+  /** Begins a render of settings (NumberOfChannels: the whole volume's; the slabs give their voxels' channels to
+   * AddSlab()) over a volume of wholeSize voxels, seen through
    * projection (built for the whole volume's grid), by a sampler of these traits and maximum weight. */
   DRRStreamedPointRender(const DRRPointRenderer::Settings & settings,
                          const DRRPointProjection &         projection,
@@ -77,13 +78,15 @@ public:
 
   /** Draws the samples [window[0], window[1]) of the run from the plan of a sampler initialized on a slab, whose
    * first z plane is firstPlane of the whole volume, into the sums. signedResidual: the slab's control-variate
-   * residual (its signs), or null. */
+   * residual (its signs), or null. voxelChannels: the channel of each of the slab's voxels, numbered as the whole
+   * volume's (DRRAttenuationVolume::GetVoxelChannels() of the slab's model), for more than one channel; else null. */
   void
   AddSlab(const DRRSamplerViewPlan &    plan,
           const DRRPointSampler &       sampler,
           const std::array<uint64_t, 2> window,
           uint64_t                      firstPlane,
-          const DRRAttenuationVolume *  signedResidual);
+          const DRRAttenuationVolume *  signedResidual,
+          const uint8_t *               voxelChannels = nullptr);
 
   /** Points kept for many views (PointBasedDRRImageFilter::SetReusePoints()), drawn slab by slab: a cloud sized for
    * the whole run of settings (with a channel per point for settings' channels), described as the whole volume's

@@ -29,7 +29,9 @@
 
 #include "gtest/gtest.h"
 
+#include <array>
 #include <limits>
+#include <type_traits>
 
 namespace
 {
@@ -379,6 +381,253 @@ TEST(DRRStreamedLabels, ThePointFilterStreamsLabelsBitForBit)
   }
 }
 
+// The stage numbers a slab's label channels by the labels of the whole volume, not by the slab's own: the slab's model
+// has the whole model's channel labels and its planes' voxel channels (label 7, in the top planes alone, keeps its
+// channel in the slabs that lack it).
+TEST(DRRStreamedLabels, TheStageNumbersASlabsChannelsAsTheWholeVolume)
+{
+  const auto volume = MakeVolumeOfLevels();
+  for (const bool onGrid : { true, false })
+  {
+    const auto labels = onGrid ? MakeLabels(volume) : MakeOffGridLabels(volume);
+    for (const auto & selection : { selections[0], selections[1] })
+    {
+      if (!onGrid && selection.Kept.size() == 3)
+      {
+        continue;
+      }
+      auto stage = StageType::New();
+      stage->SetInput(volume);
+      stage->SetLabelImage(labels);
+      stage->SetKeptLabels(selection.Kept);
+      stage->SetDroppedLabels(selection.Dropped);
+      stage->SetLabelChannels(true);
+      stage->Update();
+      const itk::DRRAttenuationVolume &           whole = *stage->GetOutput();
+      const itk::DRRLabelSelection::LabelListType wholeLabels = whole.GetChannelLabels();
+      ASSERT_GT(wholeLabels.size(), 1u);
+      const std::vector<uint8_t> wholeChannels(whole.GetVoxelChannels(),
+                                               whole.GetVoxelChannels() + whole.GetNumberOfVoxels());
+      const std::vector<float>   wholeMu = MuOf(whole);
+      const size_t               plane = 19 * 17;
+      for (const auto & slab : { std::make_pair(0, 8), std::make_pair(8, 13), std::make_pair(40, 5) })
+      {
+        auto region = volume->GetLargestPossibleRegion();
+        region.SetIndex(2, slab.first);
+        region.SetSize(2, slab.second);
+        itk::DRRAttenuationVolume * model = stage->GetOutput();
+        model->SetRequestedRegion(region);
+        model->Update();
+        ASSERT_EQ(model->GetNumberOfVoxels(), plane * slab.second);
+        EXPECT_EQ(model->GetChannelLabels(), wholeLabels) << "slab at " << slab.first;
+        ASSERT_EQ(model->GetNumberOfChannels(), wholeLabels.size());
+        ASSERT_NE(model->GetVoxelChannels(), nullptr);
+        const std::vector<float> mu = MuOf(*model);
+        for (size_t v = 0; v < mu.size(); ++v)
+        {
+          ASSERT_EQ(mu[v], wholeMu[plane * slab.first + v]) << "slab at " << slab.first << ", voxel " << v;
+          ASSERT_EQ(model->GetVoxelChannels()[v], wholeChannels[plane * slab.first + v])
+            << (onGrid ? "on grid" : "resampled") << ", slab at " << slab.first << ", voxel " << v;
+        }
+      }
+    }
+  }
+}
+
+/** The four images of a point or exact render: line integral, standard error (the point filter's), channels and their
+ * covariance, in buffer order. */
+template <typename TFilter>
+std::array<std::vector<double>, 4>
+ImagesOf(TFilter & drr)
+{
+  const auto channelsOf = [](const auto * image) {
+    const float * values = image->GetBufferPointer();
+    return std::vector<double>(
+      values, values + image->GetNumberOfComponentsPerPixel() * image->GetBufferedRegion().GetNumberOfPixels());
+  };
+  std::array<std::vector<double>, 4> images;
+  images[0] = ToVector(drr.GetOutput());
+  images[2] = channelsOf(drr.GetChannelOutput());
+  images[3] = channelsOf(drr.GetChannelCovarianceOutput());
+  if constexpr (std::is_same_v<TFilter, PointType>)
+  {
+    images[1] = ToVector(drr.GetStandardErrorOutput());
+  }
+  return images;
+}
+
+// The point filter streams label channels (on the volume's grid or resampled, kept or dropped labels) and material
+// channels, drawn anew or kept: the same points as the unstreamed render in the same channels, so the image, its
+// standard error, the channel images and their covariance are the same bit for bit. `auto` renders channels without a
+// control variate, streamed or not.
+TEST(DRRStreamedLabels, ThePointFilterStreamsLabelAndMaterialChannelsBitForBit)
+{
+  const auto volume = MakeVolumeOfLevels();
+  enum class Kind
+  {
+    OnGrid,
+    Resampled,
+    Materials
+  };
+  for (const Kind kind : { Kind::OnGrid, Kind::Resampled, Kind::Materials })
+  {
+    const auto labels = kind == Kind::Resampled ? MakeOffGridLabels(volume) : MakeLabels(volume);
+    for (const auto & selection : { selections[0], selections[1] })
+    {
+      if (kind != Kind::OnGrid && selection.Kept.size() == 3)
+      {
+        continue;
+      }
+      for (const bool reuse : { false, true })
+      {
+        for (const unsigned int factor : { 0u, PointType::AutomaticControlVariateFactor })
+        {
+          itk::DRRLabelSelection::LabelListType channelLabels;
+          const auto                            render = [&](unsigned int slabs) {
+            auto drr = PointType::New();
+            drr->SetInput(volume);
+            drr->SetGeometry(MakeView(ProjectionEnum::Perspective));
+            if (kind == Kind::Materials)
+            {
+              drr->GetTransferFunction()->SetMaterialTable(AirAndWater());
+              drr->SetMaterialChannels(true);
+            }
+            else
+            {
+              drr->SetLabelImage(labels);
+              drr->SetKeptLabels(selection.Kept);
+              drr->SetDroppedLabels(selection.Dropped);
+              drr->SetLabelChannels(true);
+            }
+            drr->SetNumberOfSamples(100000);
+            drr->SetSeed(23);
+            drr->SetReusePoints(reuse);
+            drr->SetControlVariateFactor(factor);
+            drr->SetNumberOfStreamDivisions(slabs);
+            drr->Update();
+            EXPECT_EQ(drr->GetNumberOfSlabs() > 1, slabs > 1); // `auto`'s F aligns the slabs
+            channelLabels = drr->GetChannelLabels();
+            return ImagesOf(*drr);
+          };
+          const auto whole = render(1);
+          const auto wholeLabels = channelLabels;
+          ASSERT_GT(wholeLabels.size(), 1u);
+          ASSERT_GT(*std::max_element(whole[2].begin(), whole[2].end()), 0.1);
+          for (const unsigned int slabs : { 2u, 3u })
+          {
+            const auto streamed = render(slabs);
+            EXPECT_EQ(channelLabels, wholeLabels);
+            for (size_t i = 0; i < whole.size(); ++i)
+            {
+              ASSERT_EQ(streamed[i].size(), whole[i].size()) << "image " << i;
+              for (size_t p = 0; p < whole[i].size(); ++p)
+              {
+                ASSERT_EQ(streamed[i][p], whole[i][p])
+                  << "kind " << static_cast<int>(kind) << ", reuse " << reuse << ", F " << factor << ", " << slabs
+                  << " slabs, image " << i << ", value " << p;
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+// `auto` renders channels without a control variate, streamed as unstreamed, even where it would keep one: a volume of
+// water alone, whose residual is nothing (with one, the points would draw no channel at all).
+TEST(DRRStreamedLabels, AutoRendersStreamedChannelsWithoutAControlVariate)
+{
+  HUVolumeType::SpacingType spacing;
+  spacing.Fill(1.0);
+  const auto volume = MakeVolume<HUVolumeType>(
+    { { 16, 16, 32 } }, spacing, Pt(-8.0, -8.0, -16.0), RotationMatrix(Vec(0.0, 0.0, 1.0), 0.0));
+  volume->FillBuffer(0);
+  auto labels = LabelImageType::New();
+  labels->CopyInformation(volume);
+  labels->SetRegions(volume->GetLargestPossibleRegion());
+  labels->Allocate();
+  for (itk::ImageRegionIteratorWithIndex<LabelImageType> it(labels, labels->GetLargestPossibleRegion()); !it.IsAtEnd();
+       ++it)
+  {
+    it.Set(static_cast<uint16_t>(1 + (it.GetIndex()[0] >= 8) + 2 * (it.GetIndex()[2] >= 16)));
+  }
+  const auto render = [&](unsigned int slabs) {
+    auto drr = PointType::New();
+    drr->SetInput(volume);
+    drr->SetGeometry(MakeView(ProjectionEnum::Parallel));
+    drr->SetLabelImage(labels);
+    drr->SetLabelChannels(true);
+    drr->SetNumberOfSamples(50000);
+    drr->SetControlVariateFactor(PointType::AutomaticControlVariateFactor);
+    drr->SetNumberOfStreamDivisions(slabs);
+    drr->Update();
+    EXPECT_EQ(drr->GetNumberOfSlabs(), slabs);
+    return ImagesOf(*drr);
+  };
+  const auto whole = render(1);
+  ASSERT_GT(*std::max_element(whole[2].begin(), whole[2].end()), 0.1);
+  const auto streamed = render(2);
+  for (size_t i = 0; i < whole.size(); ++i)
+  {
+    EXPECT_EQ(streamed[i], whole[i]) << "image " << i;
+  }
+}
+
+// The exact filter streams label channels: the slabs' channel images add up to the unstreamed ones (to rounding), in
+// the whole volume's channels; the label image, which numbers them, is read whole once.
+TEST(DRRStreamedLabels, TheExactFilterStreamsLabelChannels)
+{
+  const auto volume = MakeVolumeOfLevels();
+  for (const bool onGrid : { true, false })
+  {
+    const auto labels = onGrid ? MakeLabels(volume) : MakeOffGridLabels(volume);
+    for (const auto & selection : { selections[0], Selection{ { 1, 3, 4 }, {} } })
+    {
+      auto                                  labelSource = RecordingSource<LabelImageType>::New();
+      itk::DRRLabelSelection::LabelListType channelLabels;
+      const auto                            render = [&](unsigned int slabs) {
+        labelSource = RecordingSource<LabelImageType>::New();
+        labelSource->Image = labels;
+        auto exact = ExactType::New();
+        exact->SetInput(volume);
+        exact->SetGeometry(MakeView(ProjectionEnum::Perspective));
+        exact->SetLabelImage(labelSource->GetOutput());
+        exact->SetKeptLabels(selection.Kept);
+        exact->SetDroppedLabels(selection.Dropped);
+        exact->SetLabelChannels(true);
+        exact->SetNumberOfStreamDivisions(slabs);
+        exact->Update();
+        EXPECT_EQ(exact->GetNumberOfSlabs(), slabs);
+        channelLabels = exact->GetChannelLabels();
+        return ImagesOf(*exact);
+      };
+      const auto whole = render(1);
+      const auto wholeLabels = channelLabels;
+      ASSERT_GT(wholeLabels.size(), 1u);
+      const double largest = *std::max_element(whole[0].begin(), whole[0].end());
+      ASSERT_GT(*std::max_element(whole[2].begin(), whole[2].end()), 0.1);
+      for (const unsigned int slabs : { 2u, 3u, 7u })
+      {
+        const auto streamed = render(slabs);
+        EXPECT_EQ(channelLabels, wholeLabels);
+        for (const size_t i : { 0, 2 })
+        {
+          ASSERT_EQ(streamed[i].size(), whole[i].size());
+          for (size_t p = 0; p < whole[i].size(); ++p)
+          {
+            ASSERT_NEAR(streamed[i][p], whole[i][p], 1e-6 * largest)
+              << (onGrid ? "on grid" : "resampled") << ", " << slabs << " slabs, image " << i << ", value " << p;
+          }
+        }
+        EXPECT_EQ(streamed[3], whole[3]); // an exact projection's covariance: zeros
+        ASSERT_EQ(labelSource->Requests.size(), 1u);
+        EXPECT_EQ(labelSource->Requests.front(), labels->GetLargestPossibleRegion());
+      }
+    }
+  }
+}
+
 // What does not stream is refused by name, and a kept label in no slab is refused as in no voxel of the whole volume.
 TEST(DRRStreamedLabels, WhatCannotStreamIsRefusedByName)
 {
@@ -394,31 +643,64 @@ TEST(DRRStreamedLabels, WhatCannotStreamIsRefusedByName)
   exact->SetKeptLabels({ 7 });
   exact->SetDroppedLabels({ 7 });
   EXPECT_TRUE(Contains(ExceptionMessage([&] { exact->Update(); }, "none left"), "leave no label to render"));
-  exact->SetKeptLabels({});
+  // With label channels, the whole volume's labels are checked before the first slab.
   exact->SetDroppedLabels({});
+  exact->SetKeptLabels({ 1, 9 });
   exact->SetLabelChannels(true);
-  EXPECT_TRUE(Contains(ExceptionMessage([&] { exact->Update(); }, "label channels"), "no label channels"));
-  exact->SetLabelChannels(false);
+  EXPECT_TRUE(
+    Contains(ExceptionMessage([&] { exact->Update(); }, "channels, kept 9"), "the kept label 9 is in no voxel"));
+  exact->SetKeptLabels({});
   EXPECT_NO_THROW(exact->Update());
+  EXPECT_EQ(exact->GetChannelLabels(), (itk::DRRLabelSelection::LabelListType{ 0, 1, 2, 3, 4, 7 }));
+  // A new selection numbers the channels anew.
+  exact->SetDroppedLabels({ 2 });
+  EXPECT_NO_THROW(exact->Update());
+  EXPECT_EQ(exact->GetChannelLabels(), (itk::DRRLabelSelection::LabelListType{ 0, 1, 3, 4, 7 }));
+  exact->SetDroppedLabels({});
 
+  // More channels than a render holds, and a label image of another volume, streamed as unstreamed.
+  auto many = LabelImageType::New();
+  many->CopyInformation(volume);
+  many->SetRegions(volume->GetLargestPossibleRegion());
+  many->Allocate();
+  uint16_t next = 0;
+  for (itk::ImageRegionIterator<LabelImageType> it(many, many->GetLargestPossibleRegion()); !it.IsAtEnd(); ++it)
+  {
+    it.Set(static_cast<uint16_t>(next++ % 300));
+  }
+  auto elsewhere = MakeVolume<LabelImageType>(
+    { { 4, 4, 4 } }, volume->GetSpacing(), volume->GetOrigin() + Vec(500.0, 0.0, 0.0), volume->GetDirection());
   auto points = PointType::New();
   points->SetInput(volume);
   points->SetGeometry(MakeView(ProjectionEnum::Perspective));
-  points->SetNumberOfStreamDivisions(2);
-  points->GetTransferFunction()->SetMaterialTable(AirAndWater());
-  points->SetMaterialChannels(true);
-  EXPECT_TRUE(Contains(ExceptionMessage([&] { points->Update(); }, "point material channels"), "no material channels"));
+  points->SetLabelChannels(true);
+  const auto refuses = [&](auto & drr) {
+    for (const unsigned int slabs : { 1u, 2u })
+    {
+      drr->SetNumberOfStreamDivisions(slabs);
+      drr->SetLabelImage(many);
+      EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "300 channels"), "keep fewer labels"));
+      drr->SetLabelImage(elsewhere);
+      EXPECT_TRUE(Contains(ExceptionMessage([&] { drr->Update(); }, "labels elsewhere"), "covers no voxel"));
+    }
+  };
+  refuses(exact);
+  refuses(points);
+  // A chosen control variate with channels: refused streamed as unstreamed; `auto` renders without one.
+  points->SetLabelImage(labels);
+  points->SetControlVariateFactor(4);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { points->Update(); }, "streamed channels, F 4"),
+                       "label channels are rendered without a control variate"));
+  points->SetControlVariateFactor(PointType::AutomaticControlVariateFactor);
+  EXPECT_NO_THROW(points->Update());
+  EXPECT_EQ(points->GetChannelOutput()->GetNumberOfComponentsPerPixel(), 6u);
 
-  // The stage refuses a slab of label channels, and a region of other than whole z planes.
+  // The stage refuses a region of other than whole z planes.
   auto stage = StageType::New();
   stage->SetInput(volume);
   stage->SetLabelImage(labels);
-  stage->SetLabelChannels(true);
   auto slab = volume->GetLargestPossibleRegion();
   slab.SetSize(2, 4);
-  stage->GetOutput()->SetRequestedRegion(slab);
-  EXPECT_TRUE(Contains(ExceptionMessage([&] { stage->Update(); }, "slab channels"), "label channels need the whole"));
-  stage->SetLabelChannels(false);
   slab.SetSize(0, 5);
   stage->GetOutput()->SetRequestedRegion(slab);
   EXPECT_TRUE(Contains(ExceptionMessage([&] { stage->Update(); }, "part planes"), "is not whole z planes"));

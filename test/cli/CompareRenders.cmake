@@ -5,7 +5,8 @@
 #
 # Used with --exact: two files that hold the same volume in different layouts must give the same radiograph. With a
 # word --vs among the options, the options before it render FIRST and those after it SECOND: two spellings of the
-# same options must give the same image.
+# same options must give the same image. With -DALSO="file1|file2", two more files the renders write (the first's and
+# the second's, such as their channel images) must be identical too.
 cmake_minimum_required(VERSION 3.16)
 include(${CMAKE_CURRENT_LIST_DIR}/ArgumentsAfterSeparator.cmake)
 pbdrr_arguments_after_separator(options)
@@ -36,5 +37,14 @@ list(GET outputs 1 second_output)
 execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${first_output}" "${second_output}" RESULT_VARIABLE differ)
 if(differ)
   message(FATAL_ERROR "${FIRST} and ${SECOND} give different images (${first_output}, ${second_output})")
+endif()
+if(ALSO)
+  string(REPLACE "|" ";" also "${ALSO}")
+  list(GET also 0 first_also)
+  list(GET also 1 second_also)
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files "${first_also}" "${second_also}" RESULT_VARIABLE differ)
+  if(differ)
+    message(FATAL_ERROR "the renders wrote different files ${first_also} and ${second_also}")
+  endif()
 endif()
 message(STATUS "${FIRST} and ${SECOND} give the same image")
