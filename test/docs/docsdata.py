@@ -16,19 +16,21 @@ import subprocess
 
 # name in the docs -> (how it is made, its source): "copy" a file or folder of the CLI data, or "made" here.
 PLACEHOLDERS = {
-    "ct_dir/": ("copy", "dicom_good"),  # a DICOM series folder
-    "CT": ("copy", "dicom_good"),  # a CT of no format named: a DICOM series folder needs no extension
+    # A DICOM series folder: the registration phantom (48 x 40 x 32 mm, large enough for pbdrr register's default
+    # smoothing of 5 mm) written here as a CT series, a file per slice.
+    "ct_dir/": ("made", "register_phantom.mha"),
+    "CT": ("made", "register_phantom.mha"),  # a CT of no format named: a DICOM series folder needs no extension
     "CT.mha": ("copy", "phantom.mha"),
     "ct.mha": ("copy", "phantom.mha"),
     "chest_x4.mha": ("copy", "phantom.mha"),  # the streaming examples: 12 slices, one slab of 32
     "out/demo/head.mha": ("copy", "phantom.mha"),  # scripts/demo.sh's head CT
     "ct.nii.gz": ("made", "phantom.mha"),  # NIfTI-1, gzipped
-    "seg.nii.gz": ("made", "labels.mha"),  # the phantom's labels as NIfTI
+    "seg.nii.gz": ("made", "labels.mha"),  # the phantom's labels 0, 1, 2 as NIfTI, 2 as 3 (bone, as --keep-labels 3)
     "mu.mha": ("made", "phantom.mha"),  # float attenuation per mm
     "view.txt": ("copy", "geometry_32.txt"),  # a geometry file (a 32 x 32 detector)
-    "P.txt": ("copy", "matrix_view.P.txt"),  # a 3 x 4 projection matrix
+    "P.txt": ("made", None),  # a C-arm's 3 x 4 matrix: 1024 x 768 pixels of 0.3 mm (numpy.savetxt's format)
     "S1000/I10": ("copy", "localizer_lateral.dcm"),  # a DICOM localizer without an extension, as scanners write them
-    "ap.mha": ("made", None),  # X-rays of the series for pbdrr register: exact DRRs, and their views
+    "ap.mha": ("made", None),  # X-rays of ct_dir/ for pbdrr register: exact DRRs, and their views
     "ap.txt": ("made", None),
     "lat.mha": ("made", None),
     "lat.txt": ("made", None),
@@ -65,9 +67,12 @@ NIFTI_TYPES = {"MET_UCHAR": (2, 8), "MET_SHORT": (4, 16), "MET_INT": (8, 32), "M
                "MET_CHAR": (256, 8), "MET_USHORT": (512, 16), "MET_UINT": (768, 32)}
 
 
-def write_nifti(mha, path):
-    """The MetaImage mha as a gzipped NIfTI-1 file: the same voxels, and its LPS grid as NIfTI's RAS sform/qform."""
+def write_nifti(mha, path, relabel=None):
+    """The MetaImage mha as a gzipped NIfTI-1 file: the same voxels (bytes relabelled by the dict relabel), and its
+    LPS grid as NIfTI's RAS sform/qform."""
     header, pixels = read_mha(mha)
+    if relabel:
+        pixels = bytes(relabel.get(v, v) for v in pixels)
     if [float(v) for v in header.get("TransformMatrix", "1 0 0 0 1 0 0 0 1").split()] != [1, 0, 0, 0, 1, 0, 0, 0, 1]:
         raise RuntimeError(f"{mha}: only an identity direction is converted here")
     size = [int(v) for v in header["DimSize"].split()]
@@ -98,6 +103,47 @@ def write_mu(mha, path):
         f.write((text + "ElementType = MET_FLOAT\nElementDataFile = LOCAL\n").encode() + mu)
 
 
+def element(group, number, vr, value):
+    """One data element in explicit VR little endian, its value padded to an even length."""
+    if isinstance(value, str):
+        value = value.encode() + (b"\0" if vr == "UI" else b" ") * (len(value) % 2)
+    if vr in ("OB", "OW", "UN", "SQ", "UT"):
+        return struct.pack("<HH2sHI", group, number, vr.encode(), 0, len(value)) + value
+    return struct.pack("<HH2sH", group, number, vr.encode(), len(value)) + value
+
+
+def write_dicom_series(mha, folder, series_uid):
+    """The int16 MetaImage mha as a CT DICOM series, a file per slice (what a scanner's export folder holds)."""
+    header, pixels = read_mha(mha)
+    if header["ElementType"] != "MET_SHORT":
+        raise RuntimeError(f"{mha}: an int16 volume expected")
+    columns, rows, slices = (int(v) for v in header["DimSize"].split())
+    spacing = [float(v) for v in header["ElementSpacing"].split()]
+    origin = [float(v) for v in header["Offset"].split()]
+    os.makedirs(folder)
+    ct_storage, explicit_little = "1.2.840.10008.5.1.4.1.1.2", "1.2.840.10008.1.2.1"
+    plane = columns * rows * 2
+    for k in range(slices):
+        instance = f"{series_uid}.{k + 1}"
+        meta = (element(2, 1, "OB", b"\0\1") + element(2, 2, "UI", ct_storage) + element(2, 3, "UI", instance)
+                + element(2, 0x10, "UI", explicit_little))
+        data = b"".join([
+            element(8, 0x16, "UI", ct_storage), element(8, 0x18, "UI", instance), element(8, 0x60, "CS", "CT"),
+            element(0x18, 0x50, "DS", f"{spacing[2]:g}"), element(0x20, 0xD, "UI", series_uid + ".0"),
+            element(0x20, 0xE, "UI", series_uid), element(0x20, 0x13, "IS", str(k + 1)),
+            element(0x20, 0x32, "DS", "\\".join(f"{v:g}" for v in (origin[0], origin[1], origin[2] + k * spacing[2]))),
+            element(0x20, 0x37, "DS", "1\\0\\0\\0\\1\\0"), element(0x28, 2, "US", struct.pack("<H", 1)),
+            element(0x28, 4, "CS", "MONOCHROME2"), element(0x28, 0x10, "US", struct.pack("<H", rows)),
+            element(0x28, 0x11, "US", struct.pack("<H", columns)),
+            element(0x28, 0x30, "DS", f"{spacing[1]:g}\\{spacing[0]:g}"),
+            element(0x28, 0x100, "US", struct.pack("<H", 16)), element(0x28, 0x101, "US", struct.pack("<H", 16)),
+            element(0x28, 0x102, "US", struct.pack("<H", 15)), element(0x28, 0x103, "US", struct.pack("<H", 1)),
+            element(0x28, 0x1052, "DS", "0"), element(0x28, 0x1053, "DS", "1"),
+            element(0x7FE0, 0x10, "OW", pixels[k * plane:(k + 1) * plane])])
+        with open(os.path.join(folder, f"IM{k + 1:04d}"), "wb") as f:
+            f.write(b"\0" * 128 + b"DICM" + element(2, 0, "UL", struct.pack("<I", len(meta))) + meta + data)
+
+
 def pbdrr(executable, *arguments, cwd):
     subprocess.run([executable, *arguments, "-q"], cwd=cwd, check=True, stdout=subprocess.DEVNULL)
 
@@ -111,25 +157,40 @@ def make_stage(stage, data, executable):
         if how == "copy":
             (shutil.copytree if os.path.isdir(os.path.join(data, source)) else shutil.copy)(
                 os.path.join(data, source), path)
+        elif name == "seg.nii.gz":
+            write_nifti(os.path.join(data, source), path, relabel={2: 3})
         elif name.endswith(".nii.gz"):
             write_nifti(os.path.join(data, source), path)
+        elif name in ("ct_dir/", "CT"):
+            write_dicom_series(os.path.join(data, source), path, "2.25.4000000001")
         elif name == "mu.mha":
             write_mu(os.path.join(data, source), path)
-    series = os.path.join(data, "dicom_good")
     # The X-rays: exact DRRs of the series (what pbdrr register is to find the pose of), their views in .txt.
     for view, gantry in (("ap", "90"), ("lat", "0")):
-        pbdrr(executable, series, "-o", f"{view}.mha", "--exact", "siddon", "--gantry", gantry, "--size", "48", "48",
-              "--spacing", "1", "1", cwd=stage)
+        pbdrr(executable, "ct_dir/", "-o", f"{view}.mha", "--exact", "siddon", "--gantry", gantry, "--size", "64", "64",
+              "--spacing", "2", "2", cwd=stage)
         os.replace(os.path.join(stage, f"{view}.geometry.txt"), os.path.join(stage, f"{view}.txt"))
+    # P.txt: the matrix pbdrr writes (commented) in the .geometry.txt of a 1024 x 768 view of 0.3 mm pixels.
+    pbdrr(executable, "ct.mha", "-o", "c_arm.mha", "--size", "1024", "768", "--spacing", "0.3", "0.3",
+          "--samples", "1e3", cwd=stage)
+    with open(os.path.join(stage, "c_arm.geometry.txt")) as f:
+        lines = f.read().split("\n")
+    first = lines.index("# 3 x 4 projection matrix: room point X (mm) -> pixel (column, row) = (p0 / p2, p1 / p2), "
+                        "p = P [X; 1]") + 1
+    with open(os.path.join(stage, "P.txt"), "w") as f:
+        f.write("".join(line.lstrip("# ") + "\n" for line in lines[first:first + 3]))
+    for name in ("c_arm.mha", "c_arm.geometry.txt"):
+        os.remove(os.path.join(stage, name))
     with open(os.path.join(stage, "poses.csv"), "w") as f:
         f.write("gantry,tx,ty,tz,rx,ry,rz\n90,0,0,0,0,0,0\n90,2,-1,0,0,0,5\n0,0,0,1.5,3,0,0\n")
+    os.makedirs(os.path.join(stage, "rtk"))  # pbdrr writes into a folder, and does not make it
     pbdrr(executable, os.path.join(data, "phantom.mha"), "--angles", "4", "--angle-step", "90", "--size", "16", "16",
           "--samples", "1e4", "-o", "rtk/v_%d.mha", "--write-rtk-geometry", "geometry.xml", cwd=stage)
     shutil.rmtree(os.path.join(stage, "rtk"))
     with open(os.path.join(stage, "volumes.csv"), "w") as f:
         f.write("volume,output,angles\n"
-                f"{os.path.join(data, 'phantom.mha')},phantom/v_%d.mha,4\n"
-                f"{os.path.join(data, 'register_phantom.mha')},register/v_%d.mha,4\n")
+                f"{os.path.join(data, 'phantom.mha')},phantom_v_%d.mha,4\n"
+                f"{os.path.join(data, 'register_phantom.mha')},register_v_%d.mha,4\n")
     return list(PLACEHOLDERS)
 
 
