@@ -27,7 +27,8 @@ Every command is then either run or skipped:
   chest CT the benchmarks' docs use) is a link to a small DICOM series. `pbdrr` on PATH is a wrapper that runs the
   built pbdrr and then checks that the files its -o, --stderr, --label-channels and --write-rtk-geometry (or a
   manifest's output column) name are there (a printf counter as any number; `pbdrr register -o X.png` writes X.1.png,
-  ...). A command fails the test when it exits other than 0, is killed (a crash: the signal is named) or runs over its
+  ...); `plastimatch` on PATH likewise checks the files of its -O prefix (it exits 0 on an input it cannot read).
+  A command fails the test when it exits other than 0, is killed (a crash: the signal is named) or runs over its
   time, with the command, its folder and its output shown. A placeholder that no command run names, like an entry of
   SKIPS, CAPS or REWRITES that matches no command, fails the test too: none of the lists can rot.
 - Long commands: a few documented commands render 360 views of 512 x 512 pixels from 10^7 points; on the CLI phantom
@@ -210,6 +211,12 @@ def run(commands, args):
         f.write(f"#!/usr/bin/python3\nimport sys\nsys.path.insert(0, {os.path.dirname(__file__)!r})\n"
                 f"import docsdata\nsys.exit(docsdata.run_pbdrr({os.path.abspath(args.pbdrr)!r}, sys.argv[1:]))\n")
     os.chmod(wrapper, 0o755)
+    if shutil.which("plastimatch"):  # plastimatch exits 0 having written nothing: its wrapper checks its files
+        with open(os.path.join(bin_dir, "plastimatch"), "w") as f:
+            f.write(f"#!/usr/bin/python3\nimport sys\nsys.path.insert(0, {os.path.dirname(__file__)!r})\n"
+                    f"import docsdata\nsys.exit(docsdata.run_plastimatch({shutil.which('plastimatch')!r}, "
+                    "sys.argv[1:]))\n")
+        os.chmod(os.path.join(bin_dir, "plastimatch"), 0o755)
     environment = dict(os.environ, PATH=bin_dir + os.pathsep + os.environ.get("PATH", ""))
 
     failures, used, folders = [], set(), {}

@@ -237,3 +237,16 @@ def run_pbdrr(executable, arguments):
         print(f"pbdrr {' '.join(arguments)}: exit 0, but it did not write {', '.join(missing)}", flush=True)
         return 97
     return 0
+
+
+def run_plastimatch(executable, arguments):
+    """Runs plastimatch; after a success, checks that `plastimatch drr -O PREFIX` wrote PREFIX*: plastimatch exits 0
+    on an input it cannot read, having written nothing."""
+    result = subprocess.run([executable, *arguments])
+    if result.returncode != 0 or "-O" not in arguments[:-1]:
+        return result.returncode if result.returncode >= 0 else 128 - result.returncode
+    prefix = arguments[arguments.index("-O") + 1]
+    if not glob.glob(glob.escape(prefix) + "*"):
+        print(f"plastimatch {' '.join(arguments)}: exit 0, but it wrote no {prefix}* file", flush=True)
+        return 97
+    return 0
