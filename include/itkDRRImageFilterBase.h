@@ -325,7 +325,6 @@ protected:
   void
   VerifyPreconditions() const override;
 
-
   /** False if the next streamed update reads no slab (the point filter's kept points drawn already): the input is
    * then asked for what it holds, not for a slab. */
   virtual bool
@@ -351,6 +350,11 @@ protected:
    * derived from it first). */
   DRRAttenuationVolume::Pointer
   ReadSlab(unsigned int slab);
+  /** The newest modified time of what the attenuation model is made of: the preprocessing stage's settings and
+   * transfer function, and the input's and the label image's pipelines (for data made by a source, the source's time:
+   * their own changes with every slab read). Whatever is drawn from the model is stale once this is newer. */
+  ModifiedTimeType
+  GetModelMadeOfTime() const;
   /** A model of no voxels with the whole input's grid (index-to-physical matrix and first voxel), for the whole
    * volume's projection without reading it. */
   DRRAttenuationVolume::Pointer

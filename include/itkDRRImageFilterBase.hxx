@@ -410,6 +410,19 @@ DRRImageFilterBase<TInputImage, TOutputImage>::ReadSlab(unsigned int slab)
 }
 
 template <typename TInputImage, typename TOutputImage>
+ModifiedTimeType
+DRRImageFilterBase<TInputImage, TOutputImage>::GetModelMadeOfTime() const
+{
+  const auto madeBy = [](const DataObject * data) -> ModifiedTimeType {
+    return !data ? 0 : data->GetSource() ? data->GetPipelineMTime() : data->GetMTime();
+  };
+  return std::max({ m_AttenuationVolumeFilter->GetMTime(),
+                    this->GetTransferFunction()->GetMTime(),
+                    madeBy(this->GetInput()),
+                    madeBy(this->GetLabelImage()) });
+}
+
+template <typename TInputImage, typename TOutputImage>
 DRRAttenuationVolume::Pointer
 DRRImageFilterBase<TInputImage, TOutputImage>::MakeInputGrid() const
 {

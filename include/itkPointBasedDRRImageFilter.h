@@ -352,9 +352,6 @@ private:
   /** The whole volume's slabs, as the session reads them. */
   DRRPointRenderSession::Slabs
   MakeSlabs();
-  /** The newest modified time of what the slabs are made of: the input's pipeline and the transfer function. */
-  ModifiedTimeType
-  GetSlabsMadeOfTime() const;
   /** Warns if samples points are too few for the sampler's strata. */
   void
   WarnIfTooFewPerStratum(uint64_t samples) const;

@@ -82,18 +82,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeSlabs()
   };
   slabs.Grid = this->MakeInputGrid();
   slabs.WholeSize = { { largest.GetSize()[0], largest.GetSize()[1], largest.GetSize()[2] } };
-  slabs.MadeOf = this->GetSlabsMadeOfTime();
+  slabs.MadeOf = this->GetModelMadeOfTime();
   return slabs;
-}
-
-template <typename TInputImage, typename TOutputImage>
-ModifiedTimeType
-PointBasedDRRImageFilter<TInputImage, TOutputImage>::GetSlabsMadeOfTime() const
-{
-  // The input's own time changes with every slab read: its source's is the one that counts.
-  const TInputImage * input = this->GetInput();
-  return std::max(this->GetTransferFunction()->GetMTime(),
-                  input->GetSource() ? input->GetPipelineMTime() : input->GetMTime());
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -155,7 +145,7 @@ bool
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::ReadsSlabsAtNextUpdate() const
 {
   return !(m_ReusePoints && m_Session->GetRefinementSamples() == 0 && this->GetInput() &&
-           m_Session->StreamedPointsAreCurrent(this->MakeRequest(), this->GetSlabsMadeOfTime()));
+           m_Session->StreamedPointsAreCurrent(this->MakeRequest(), this->GetModelMadeOfTime()));
 }
 
 template <typename TInputImage, typename TOutputImage>

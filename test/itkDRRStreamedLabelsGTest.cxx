@@ -381,6 +381,40 @@ TEST(DRRStreamedLabels, ThePointFilterStreamsLabelsBitForBit)
   }
 }
 
+// Kept points drawn slab by slab are made of the labels too: a new selection, or a label image modified in place,
+// draws them again, and the image is that of a fresh filter with the new labels (they were re-used, stale, before).
+TEST(DRRStreamedLabels, StreamedKeptPointsAreDrawnAgainWhenTheLabelsChange)
+{
+  const auto volume = MakeVolumeOfLevels();
+  const auto labels = MakeLabels(volume);
+  const auto make = [&](const PointType::LabelListType & kept) {
+    auto drr = PointType::New();
+    drr->SetInput(volume);
+    drr->SetGeometry(MakeView(ProjectionEnum::Parallel));
+    drr->SetLabelImage(labels);
+    drr->SetKeptLabels(kept);
+    drr->SetNumberOfSamples(100000);
+    drr->SetSeed(5);
+    drr->SetReusePoints(true);
+    drr->SetNumberOfStreamDivisions(3);
+    return drr;
+  };
+  auto drr = make({ 1, 2 });
+  drr->Update();
+  ASSERT_EQ(drr->GetNumberOfSlabs(), 3u);
+  drr->SetKeptLabels({ 3, 4 });
+  drr->Update();
+  EXPECT_EQ(drr->GetNumberOfPointCloudDraws(), 2u) << "a new selection draws the points again";
+  auto fresh = make({ 3, 4 });
+  fresh->Update();
+  EXPECT_EQ(ToVector(drr->GetOutput()), ToVector(fresh->GetOutput()));
+  // The label image modified in place: its own time, newer than the points.
+  labels->GetBufferPointer()[0] = labels->GetBufferPointer()[0];
+  labels->Modified();
+  drr->Update();
+  EXPECT_EQ(drr->GetNumberOfPointCloudDraws(), 3u) << "a modified label image draws the points again";
+}
+
 // The stage numbers a slab's label channels by the labels of the whole volume, not by the slab's own: the slab's model
 // has the whole model's channel labels and its planes' voxel channels (label 7, in the top planes alone, keeps its
 // channel in the slabs that lack it).
