@@ -19,6 +19,9 @@
 #define PointBasedDRRTestHelpers_h
 
 #include "itkImage.h"
+#include "itkImageRegionConstIterator.h"
+#include "itkImageRegionIterator.h"
+#include "itkImageSource.h"
 #include "itkMath.h"
 #include "itkProcessObject.h"
 
@@ -215,6 +218,45 @@ Contains(const std::string & text, const std::string & part)
 {
   return text.find(part) != std::string::npos;
 }
+
+/** An image source that generates only the region requested of it, from an image in memory, and records each
+ * request: a stand-in for a streaming reader. */
+template <typename TImage>
+class RecordingSource : public itk::ImageSource<TImage>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(RecordingSource);
+  using Self = RecordingSource;
+  using Superclass = itk::ImageSource<TImage>;
+  using Pointer = itk::SmartPointer<Self>;
+  itkNewMacro(Self);
+
+  typename TImage::ConstPointer            Image;
+  std::vector<typename TImage::RegionType> Requests;
+
+protected:
+  RecordingSource() = default;
+  void
+  GenerateOutputInformation() override
+  {
+    this->GetOutput()->CopyInformation(Image);
+  }
+  void
+  GenerateData() override
+  {
+    TImage *   output = this->GetOutput();
+    const auto region = output->GetRequestedRegion();
+    Requests.push_back(region);
+    output->SetBufferedRegion(region);
+    output->Allocate();
+    itk::ImageRegionConstIterator<TImage> in(Image, region);
+    itk::ImageRegionIterator<TImage>      out(output, region);
+    for (; !in.IsAtEnd(); ++in, ++out)
+    {
+      out.Set(in.Get());
+    }
+  }
+};
 } // namespace PointBasedDRRTest
 
 #endif

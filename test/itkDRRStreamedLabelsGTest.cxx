@@ -42,45 +42,6 @@ using StageType = itk::DRRImageToAttenuationVolumeFilter<HUVolumeType>;
 using ExactType = itk::ExactDRRImageFilter<HUVolumeType, ProjectionType>;
 using PointType = itk::PointBasedDRRImageFilter<HUVolumeType, ProjectionType>;
 
-/** An image source that generates only the region requested of it, from an image in memory, and records each
- * request: a stand-in for a streaming reader. */
-template <typename TImage>
-class RecordingSource : public itk::ImageSource<TImage>
-{
-public:
-  ITK_DISALLOW_COPY_AND_MOVE(RecordingSource);
-  using Self = RecordingSource;
-  using Superclass = itk::ImageSource<TImage>;
-  using Pointer = itk::SmartPointer<Self>;
-  itkNewMacro(Self);
-
-  typename TImage::ConstPointer            Image;
-  std::vector<typename TImage::RegionType> Requests;
-
-protected:
-  RecordingSource() = default;
-  void
-  GenerateOutputInformation() override
-  {
-    this->GetOutput()->CopyInformation(Image);
-  }
-  void
-  GenerateData() override
-  {
-    TImage *   output = this->GetOutput();
-    const auto region = output->GetRequestedRegion();
-    Requests.push_back(region);
-    output->SetBufferedRegion(region);
-    output->Allocate();
-    itk::ImageRegionConstIterator<TImage> in(Image, region);
-    itk::ImageRegionIterator<TImage>      out(output, region);
-    for (; !in.IsAtEnd(); ++in, ++out)
-    {
-      out.Set(in.Get());
-    }
-  }
-};
-
 /** 19 x 17 x 45 voxels, rotated and anisotropic: an ellipsoid of random HU levels in air (several brick planes deep,
  * so that the point filter makes several slabs). */
 HUVolumeType::Pointer

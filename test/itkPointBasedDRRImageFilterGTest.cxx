@@ -1394,43 +1394,8 @@ TEST(PointBasedDRRReuse, ASamplerSettingChangedInPlaceRemakesItsTables)
   }
 }
 
-/** An image source that generates only the region requested of it, from a volume in memory, and records each request:
- * a stand-in for a streaming reader. */
-class RegionRecordingSource : public itk::ImageSource<HUVolumeType>
-{
-public:
-  ITK_DISALLOW_COPY_AND_MOVE(RegionRecordingSource);
-  using Self = RegionRecordingSource;
-  using Superclass = itk::ImageSource<HUVolumeType>;
-  using Pointer = itk::SmartPointer<Self>;
-  itkNewMacro(Self);
-
-  HUVolumeType::ConstPointer            Volume;
-  std::vector<HUVolumeType::RegionType> Requests;
-
-protected:
-  RegionRecordingSource() = default;
-  void
-  GenerateOutputInformation() override
-  {
-    this->GetOutput()->CopyInformation(Volume);
-  }
-  void
-  GenerateData() override
-  {
-    HUVolumeType * output = this->GetOutput();
-    const auto     region = output->GetRequestedRegion();
-    Requests.push_back(region);
-    output->SetBufferedRegion(region);
-    output->Allocate();
-    itk::ImageRegionConstIterator<HUVolumeType> in(Volume, region);
-    itk::ImageRegionIterator<HUVolumeType>      out(output, region);
-    for (; !in.IsAtEnd(); ++in, ++out)
-    {
-      out.Set(in.Get());
-    }
-  }
-};
+/** A stand-in for a streaming reader of a CT (PointBasedDRRTestHelpers.h). */
+using RegionRecordingSource = RecordingSource<HUVolumeType>;
 
 // Streaming (issue 30): the exact filter reads the volume from its pipeline in slabs of whole z planes, each requested
 // once and modelled alone, and the slabs' projections sum to the whole volume's to rounding, for any number of slabs,
@@ -1459,7 +1424,7 @@ TEST(ExactDRRImageFilter, StreamedSlabsOfThePipelineSumToTheWholeVolumesProjecti
     for (const unsigned int slabs : { 2u, 3u, 5u, 9u })
     {
       auto source = RegionRecordingSource::New();
-      source->Volume = volume;
+      source->Image = volume;
       for (const auto & streamed : { render(source->GetOutput(), slabs), render(volume, slabs) })
       {
         ASSERT_EQ(streamed.size(), whole.size());
@@ -1556,7 +1521,7 @@ TEST(PointBasedDRRImageFilter, StreamedSlabsDrawTheWholeVolumesPointsBitForBit)
           for (const unsigned int slabs : { 2u, 3u, 6u })
           {
             auto source = RegionRecordingSource::New();
-            source->Volume = volume;
+            source->Image = volume;
             const std::string what = "F " + std::to_string(factor) + ", " + std::to_string(samples) + " samples, " +
                                      std::to_string(slabs) + " slabs" + (collimated ? ", collimated" : "");
             for (const auto & streamed : { render(source->GetOutput(), slabs), render(volume, slabs) })
@@ -1608,7 +1573,7 @@ TEST(PointBasedDRRImageFilter, StreamedKeptPointsAreTheWholeVolumesAtEveryPose)
   for (const unsigned int factor : { 0u, 4u, PointType::AutomaticControlVariateFactor })
   {
     auto source = RegionRecordingSource::New();
-    source->Volume = volume;
+    source->Image = volume;
     const auto make = [&](const HUVolumeType * input, unsigned int slabs, itk::DRRProjectionGeometry * geometry) {
       auto drr = PointType::New();
       drr->SetInput(input);
