@@ -23,6 +23,7 @@ PLACEHOLDERS = {
     "CT.mha": ("copy", "phantom.mha"),
     "ct.mha": ("copy", "phantom.mha"),
     "chest_x4.mha": ("copy", "phantom.mha"),  # the streaming examples: 12 slices, one slab of 32
+    "chest1.mha": ("copy", "phantom.mha"),  # the preprocessing's chest (scripts/make_large_ct.py --factor 1)
     "out/demo/head.mha": ("copy", "phantom.mha"),  # scripts/demo.sh's head CT
     "ct.nii.gz": ("made", "phantom.mha"),  # NIfTI-1, gzipped
     "seg.nii.gz": ("made", "labels.mha"),  # the phantom's labels 0, 1, 2 as NIfTI, 2 as 3 (bone, as --keep-labels 3)
