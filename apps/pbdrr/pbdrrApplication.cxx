@@ -114,7 +114,7 @@ IsPolychromatic(const Options & options)
 bool
 ReadsStandardError(const Options & options)
 {
-  return !options.standardErrorOutput.empty() || IsPolychromatic(options);
+  return !options.standardErrorOutput.empty() || IsPolychromatic(options) || options.accuracyPercent.has_value();
 }
 
 itk::DRRXRaySpectrum::Pointer
@@ -254,6 +254,7 @@ MakeRenderer(const Options & options, const TVolume * volume)
     // then traces two replicates of rays, not one), so a single view and view 0 of a batch, which reads none, would
     // otherwise be two estimates of the same image (issue 28).
     pointBased->SetComputeStandardError(ReadsStandardError(options));
+    pointBased->SetTargetError(options.accuracyPercent ? *options.accuracyPercent / 100.0 : 0.0);
     renderer.Points = pointBased;
     renderer.Filter = pointBased.GetPointer();
   }
@@ -573,6 +574,12 @@ RenderView(const Options &                               options,
                 << itk::PointBasedDRREnums::GetName(options.splat) << ", attenuation mass M "
                 << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
                 << std::endl;
+      if (options.accuracyPercent)
+      {
+        std::cerr << "pbdrr: accuracy: estimated error " << 100.0 * pointBased->GetEstimatedError() << "% (asked "
+                  << *options.accuracyPercent << "%) with " << pointBased->GetTotalNumberOfSamples() << " points in all"
+                  << std::endl;
+      }
       if (const itk::DRRControlVariate * split = pointBased->GetControlVariate())
       {
         // M_r as the sampler of the residual summed it: the split's own sum would be another pass over the CT.

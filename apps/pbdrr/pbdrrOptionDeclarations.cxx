@@ -153,6 +153,18 @@ Photons(const std::string & value, const std::string & flag)
   return photons;
 }
 
+/** --accuracy: a percent of error to reach, above 0 and at most 100. */
+double
+Percent(const std::string & value, const std::string & flag)
+{
+  const double percent = ParseNumber(value, flag);
+  if (!(percent > 0.0 && percent <= 100.0))
+  {
+    throw UsageError(flag + " expects a percent in (0, 100], got '" + value + "'");
+  }
+  return percent;
+}
+
 /** --kvp: a tube voltage Kramers' law is used for, 20 to 800 kV. */
 double
 TubeVoltage(const std::string & value, const std::string & flag)
@@ -229,6 +241,10 @@ OptionDeclarations()
     Option("--samples").In(Rendering).Takes("N").Sets(&Options::samples, ParseSampleCount)
       .Default(std::to_string(itk::DRRPointRenderer::DefaultNumberOfSamples / 1000000) + "M")
       .Help("number of points: 1e7, 16M, 2.5G, 1000000 (default {default})"),
+    Option("--accuracy").In(Rendering).Takes("PCT").Only(one, "--accuracy renders one view to a stated error")
+      .Sets(&Options::accuracyPercent, Percent)
+      .Help("the error to reach, percent: --samples points first, then passes of as many more as the\n"
+            "estimate asks, until the RMS standard error over the image's range is at most PCT (-v says)"),
     Option("--sampler").In(Rendering).Takes("NAME").Default(defaults.sampler).Sets(&Options::sampler, Sampler)
       .Help("how points are drawn (default {default}):")
       .Choices(PolicyChoices(itk::DRRSamplerFactory::GetEntries())),

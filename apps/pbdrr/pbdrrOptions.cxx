@@ -208,6 +208,11 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   // The options that do not apply to the projector chosen: the command line's own rules. The render's rules (the
   // control variate's kernel and weighting, what streams) are the filter's, asked of it before the load
   // (VerifyRenderSettings()); there `auto` resolves to off where the control variate cannot apply.
+  if (options.exact && options.accuracyPercent)
+  {
+    throw UsageError("--accuracy applies to point sampling, not to --exact (the exact projector's error is not "
+                     "estimated)");
+  }
   if (options.exact && options.paperCount)
   {
     throw UsageError("--paper-count applies to point sampling, not to --exact");

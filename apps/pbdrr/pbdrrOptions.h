@@ -56,7 +56,9 @@ struct Options
   std::string projectionMatrixFile; // --projection-matrix FILE: the view from a 3 x 4 matrix (with --size)
   std::string geometryFrom;         // --geometry-from LOCALIZER.dcm: the localizer's own view and pixel grid
 
-  uint64_t                                      samples{ itk::DRRPointRenderer::DefaultNumberOfSamples };
+  uint64_t samples{ itk::DRRPointRenderer::DefaultNumberOfSamples };
+  /** --accuracy PCT: the estimated relative error to reach, percent (PointBasedDRRImageFilter::SetTargetError()). */
+  std::optional<double>                         accuracyPercent;
   std::string                                   sampler{ itk::DRRSamplerFactory::DefaultName };
   itk::PointBasedDRREnums::ReconstructionKernel kernel{ itk::PointBasedDRREnums::ReconstructionKernel::Box };
   itk::PointBasedDRREnums::Splat                splat{ itk::PointBasedDRREnums::Splat::Nearest };
