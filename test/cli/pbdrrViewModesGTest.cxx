@@ -363,6 +363,10 @@ ViewModeCases()
       batchesRefuse("--stderr writes one view's standard error") },
     // The estimate of point renders.
     { "samples", with(small, { "--samples", "3e4", "-q" }), Render::Points },
+    { "accuracy",
+      with(with(points, small), { "--accuracy", "50" }),
+      Render::Points,
+      batchesRefuse("--accuracy renders one view to a stated error") },
     { "seed", with(with(points, small), { "--seed", "11" }), Render::Points },
     { "threads", with(with(points, small), { "--threads", "1" }), Render::Points },
     { "paper_count", with(with(points, small), { "--paper-count" }), Render::Points },
