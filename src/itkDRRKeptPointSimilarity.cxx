@@ -380,14 +380,24 @@ DRRKeptPointSimilarity::Prepare(const DRRAttenuationVolume & model,
     std::vector<double> smoothed(binned.begin(), binned.end());
     Smooth(smoothed, *view.Geometry, settings.SmoothingSigma);
     view.XRay.assign(smoothed.begin(), smoothed.end());
-    const DRRPointProjection projection(*view.Geometry, model, matrix, offset);
-    view.Field =
-      ErodeBySmoothing(CoveredField(*view.Geometry, projection, volumeSize), *view.Geometry, settings.SmoothingSigma);
+    const DRRPointProjection   projection(*view.Geometry, model, matrix, offset);
+    const std::vector<uint8_t> seen = CoveredField(*view.Geometry, projection, volumeSize);
+    view.Field = ErodeBySmoothing(seen, *view.Geometry, settings.SmoothingSigma);
+    const size_t seenPixels = static_cast<size_t>(std::count(seen.begin(), seen.end(), uint8_t{ 1 }));
     const size_t covered = static_cast<size_t>(std::count(view.Field.begin(), view.Field.end(), uint8_t{ 1 }));
+    if (seenPixels < 3)
+    {
+      itkGenericExceptionMacro("X-ray " << x << "'s view misses the volume at the start pose (" << seenPixels
+                                        << " pixels of its binned detector see it): no overlap to compare");
+    }
     if (covered < 3)
     {
-      itkGenericExceptionMacro("X-ray " << x << "'s view misses the volume at the start pose (" << covered
-                                        << " pixels of its binned detector see it): no overlap to compare");
+      // The field is eroded by the smoothing's support (its border would pull the pose): a small field and a large
+      // smoothing leave nothing, which is the smoothing's doing, not the view's.
+      itkGenericExceptionMacro("X-ray " << x << "'s field of the volume (" << seenPixels
+                                        << " pixels of its binned detector) is eroded away by the smoothing of "
+                                        << settings.SmoothingSigma << " mm (" << covered
+                                        << " pixels left): smooth less at this level");
     }
     float low = std::numeric_limits<float>::infinity(), high = -low;
     for (size_t p = 0; p < view.Field.size(); ++p)

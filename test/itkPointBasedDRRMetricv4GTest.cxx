@@ -428,6 +428,11 @@ TEST(PointBasedDRRMetricv4, RefusesInputItCannotUse)
   away->SetIsocenter(farAway);
   ExpectInitializeRefused(MakeUninitializedMetric(volume, xray, away), "misses the volume");
 
+  // A view that sees the volume, whose field a smoothing far wider than it erodes away: the smoothing is named.
+  auto wide = MakeUninitializedMetric(volume, xray, geometry);
+  wide->SetSmoothingSigma(1000.0);
+  ExpectInitializeRefused(wide, "is eroded away by the smoothing of 1000 mm");
+
   auto otherSize = View(90, ProjectionEnum::Perspective);
   otherSize->SetDetectorSize({ { 40, 40 } });
   ExpectInitializeRefused(MakeUninitializedMetric(volume, xray, otherSize), "48 x 40 pixels, its view 40 x 40");
