@@ -44,12 +44,6 @@ namespace pbdrr
 {
 namespace
 {
-double
-Now()
-{
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
 /** The options a batch cannot take, or takes only together; throws UsageError. */
 void
 CheckBatchOptions(const Options & options)
@@ -593,7 +587,7 @@ RenderViews(const Options &           options,
   {
     WriteRTKGeometry(options, plan, volume, options.writeRtkGeometry, "--write-rtk-geometry");
   }
-  const double             renderStart = Now();
+  const double             renderStart = SteadySeconds();
   double                   firstViewSeconds = 0.0;
   VolumeType::Pointer      stack;
   std::vector<std::string> notes;
@@ -626,7 +620,7 @@ RenderViews(const Options &           options,
       WriteGeometryBeside(plan.Outputs[k], geometry);
     }
     progress.ViewDone();
-    firstViewSeconds = s == 0 ? Now() - renderStart : firstViewSeconds;
+    firstViewSeconds = s == 0 ? SteadySeconds() - renderStart : firstViewSeconds;
   }
   if (stack)
   {
@@ -638,7 +632,7 @@ RenderViews(const Options &           options,
   if (options.verbose)
   {
     PrintBatchTimes(
-      loadSeconds, firstViewSeconds, Now() - renderStart - firstViewSeconds, plan.Selected.size(), renderer);
+      loadSeconds, firstViewSeconds, SteadySeconds() - renderStart - firstViewSeconds, plan.Selected.size(), renderer);
   }
 }
 } // namespace
@@ -667,7 +661,7 @@ LoadAndRenderViews(const Options &      options,
   }
   const bool         fromHeader = AnnounceSlabs(options, renderer) > 1 || options.stream > 1;
   const LoadedVolume loaded = LoadVolumeAfterHeader(options, header, fromHeader, {});
-  const double       loadSeconds = Now() - loadStart;
+  const double       loadSeconds = SteadySeconds() - loadStart;
   for (size_t n = 0; !options.quiet && n < loaded.Notes.size(); ++n)
   {
     std::cerr << "pbdrr: " << loaded.Notes[n] << std::endl;
@@ -691,7 +685,7 @@ LoadAndRenderViews(const Options &      options,
 void
 RenderBatch(const Options & options, const BatchPlan & plan, BatchProgress & progress)
 {
-  const double       loadStart = Now();
+  const double       loadStart = SteadySeconds();
   const LoadedVolume header = OpenVolumeHeader(options);
   if (header.IsSet())
   {

@@ -51,6 +51,10 @@ struct BatchPlan
 BatchPlan
 PlanBatch(const Options & options, uint64_t shardOffset = 0);
 
+/** Seconds on the steady clock: the batch's timings and its progress line. */
+double
+SteadySeconds();
+
 /** Counts views done for a batch's progress: views done / total, views per second and the time left, on a terminal
  * as one line redrawn, into a log (a Slurm job's) as a line every 10 seconds; nothing when quiet. */
 class BatchProgress

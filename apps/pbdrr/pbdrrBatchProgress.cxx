@@ -23,17 +23,18 @@
 
 namespace pbdrr
 {
-namespace
-{
 double
-Now()
+SteadySeconds()
 {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
-} // namespace
 
 BatchProgress::BatchProgress(uint64_t total, bool enabled)
-  : m_Total(total), m_Enabled(enabled), m_Terminal(isatty(fileno(stderr)) != 0), m_Start(Now()), m_LastPrint(m_Start)
+  : m_Total(total)
+  , m_Enabled(enabled)
+  , m_Terminal(isatty(fileno(stderr)) != 0)
+  , m_Start(SteadySeconds())
+  , m_LastPrint(m_Start)
 {}
 
 BatchProgress::~BatchProgress()
@@ -48,7 +49,7 @@ void
 BatchProgress::ViewDone()
 {
   ++m_Done;
-  const double now = Now();
+  const double now = SteadySeconds();
   if (m_Enabled && (m_Terminal ? now - m_LastPrint >= 0.2 : now - m_LastPrint >= 10.0))
   {
     m_LastPrint = now;
@@ -59,7 +60,7 @@ BatchProgress::ViewDone()
 void
 BatchProgress::Print(bool final)
 {
-  const double seconds = Now() - m_Start;
+  const double seconds = SteadySeconds() - m_Start;
   const double rate = seconds > 0.0 ? static_cast<double>(m_Done) / seconds : 0.0;
   char         line[160];
   if (final)
