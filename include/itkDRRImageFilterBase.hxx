@@ -416,10 +416,8 @@ DRRImageFilterBase<TInputImage, TOutputImage>::GetModelMadeOfTime() const
   const auto madeBy = [](const DataObject * data) -> ModifiedTimeType {
     return !data ? 0 : data->GetSource() ? data->GetPipelineMTime() : data->GetMTime();
   };
-  return std::max({ m_AttenuationVolumeFilter->GetMTime(),
-                    this->GetTransferFunction()->GetMTime(),
-                    madeBy(this->GetInput()),
-                    madeBy(this->GetLabelImage()) });
+  // The stage's time holds its transfer function's (DRRImageToAttenuationVolumeFilter::GetMTime()).
+  return std::max({ m_AttenuationVolumeFilter->GetMTime(), madeBy(this->GetInput()), madeBy(this->GetLabelImage()) });
 }
 
 template <typename TInputImage, typename TOutputImage>
