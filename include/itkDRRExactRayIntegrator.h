@@ -76,6 +76,11 @@ public:
   double
   IntegrateRay(const DRRPointProjection & projection, double column, double row, double * channels = nullptr) const;
 
+  /** About the number of cells of the model's grid the ray IntegrateRay() traces crosses (1 plus the planes it
+   * crosses; 0 for a ray that misses the grid): the ray's work, for a cost model (DRREstimatorChoice). */
+  double
+  CountCrossedCells(const DRRPointProjection & projection, double column, double row) const;
+
   /** The projection image (cols x rows, columns fastest; dimensionless line integrals): the average of raysPerSide^2
    * rays per pixel, on the threads of threader (not null), reporting progress to progressFilter (may be null), which
    * is also checked for abort. With channelImage (not null) and a volume with K channels, also each channel's
@@ -126,6 +131,11 @@ private:
               double        tExit,
               double *      channels,
               double        channelScale) const;
+
+  /** Clips the segment p0 -> p1 (continuous indices) to the grid's cells: its direction into d and the parameters
+   * of entry and exit (within the tEnter .. tExit given); false if it misses them. */
+  bool
+  ClipToGrid(const double p0[3], const double p1[3], double d[3], double & tEnter, double & tExit) const;
 
   /** The ray's segment through the model's support (continuous indices of the volume's own grid); returns its
    * length, mm. */

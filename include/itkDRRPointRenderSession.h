@@ -20,6 +20,7 @@
 
 #include "itkDRRCompatibility.h"
 #include "itkDRRAttenuationVolume.h"
+#include "itkDRREstimatorChoice.h"
 #include "itkDRRPassCombination.h"
 #include "itkDRRPointCloud.h"
 #include "itkDRRPointProjection.h"
@@ -81,6 +82,11 @@ public:
     bool ReusePoints{ false };
     /** Poses the kept points serve (`auto` weighs the coarse image, paid per pose, against them). */
     uint64_t ExpectedNumberOfPoses{ 1 };
+    /** The relative error to reach (a fraction; 0: none), the most points it may take, and whether the estimator is
+     * chosen for it (ChooseEstimator()). */
+    double   TargetError{ 0.0 };
+    uint64_t MaximumNumberOfSamples{ 0 };
+    bool     ChooseEstimator{ false };
   };
 
   /** The largest residual mass M_r / M that `auto` accepts: above it the session renders without a control variate.
@@ -152,6 +158,43 @@ public:
   {
     return m_RefinementSamples;
   }
+
+  /** The fastest estimator of the view of projection to the request's target (DRREstimatorChoice: a pilot of the
+   * view, then the cost model). With ReusePoints the choice made at the first pose is kept while the volume, the
+   * target, the poses and the kernel stay: the poses of a registration render alike, and a metric whose estimator
+   * changed with the pose would jump. */
+  const DRREstimatorChoice::Candidate &
+  ChooseEstimator(const Request &              request,
+                  const DRRAttenuationVolume & volume,
+                  const DRRPointProjection &   projection,
+                  MultiThreaderBase *          threader);
+  /** Makes the kept points of the choice (points) more: a first pose whose estimate missed the target draws again. */
+  void
+  RaiseChosenSamples(uint64_t samples)
+  {
+    m_Chosen.NumberOfSamples = samples;
+  }
+  /** The pilot of the last choice (null before one). */
+  const DRREstimatorChoice *
+  GetEstimatorChoice() const
+  {
+    return m_Choice.get();
+  }
+  /** The last choice. */
+  const DRREstimatorChoice::Candidate &
+  GetChosenEstimator() const
+  {
+    return m_Chosen;
+  }
+  /** Renders the view with the exact rays, raysPerSide^2 per pixel, of the request's kernel: no pass (a Refine()
+   * after it is refused), a standard error of zero, and the choice's predicted error as the estimated one. */
+  DRRPassCombination::Estimate
+  RenderExact(const Request &              request,
+              unsigned int                 raysPerSide,
+              const DRRAttenuationVolume & volume,
+              const DRRPointProjection &   projection,
+              MultiThreaderBase *          threader,
+              ProcessObject *              caller);
 
   /** Makes the split and the sampler's tables of volume now, if anything they are made of changed. */
   void
@@ -302,6 +345,10 @@ private:
   double             m_EstimatedError{ 0.0 };
   TimeStamp          m_PassesTime;
   uint64_t           m_RefinementSamples{ 0 };
+  // The estimator chosen for a target: the pilot, its choice, and what it was made for (kept points keep it).
+  std::unique_ptr<DRREstimatorChoice> m_Choice;
+  DRREstimatorChoice::Candidate       m_Chosen;
+  std::array<double, 6>               m_ChoiceMadeFor{ {} };
 };
 } // namespace itk
 

@@ -113,6 +113,35 @@ public:
   itkGetConstMacro(MaximumNumberOfSamples, uint64_t);
   ///@}
 
+  ///@{
+  /** Whether the filter chooses its estimator for TargetError (default Off: points as set, refined to the target).
+   * On (with a TargetError), each render measures a pilot of the view and renders with the estimator predicted to
+   * reach the target with the least CPU work (DRREstimatorChoice): exact rays, k x k per pixel (1 to 16), as
+   * ExactDRRImageFilter renders them, whose standard-error output is zero and whose estimated error is the pilot's;
+   * plain points; or points with a control variate of factor F (with the box kernel). Points are drawn in the number
+   * predicted for the target and then refined to it as without the choice; with ReusePoints the choice of the first
+   * pose is kept (see ExpectedNumberOfPoses), and a first pose whose estimate misses the target draws its kept points
+   * again, more of them. The settings the choice makes (NumberOfSamples, ControlVariateFactor) are the filter's no
+   * longer; the sampler, kernel, splat, seed and strata stay. A streamed render (GetNumberOfSlabs() > 1) renders
+   * points: the exact rays need the whole volume. Needs the unbiased weighting and no label channels. */
+  itkSetMacro(ChooseEstimator, bool);
+  itkGetConstMacro(ChooseEstimator, bool);
+  itkBooleanMacro(ChooseEstimator);
+  ///@}
+
+  /** The pilot of the last choice of estimator (ChooseEstimator), with the candidates' predictions; null before one. */
+  const DRREstimatorChoice *
+  GetEstimatorChoice() const
+  {
+    return m_Session->GetEstimatorChoice();
+  }
+  /** The estimator chosen by the last render with ChooseEstimator. */
+  const DRREstimatorChoice::Candidate &
+  GetChosenEstimator() const
+  {
+    return m_Session->GetChosenEstimator();
+  }
+
   /** The estimated relative error of the current outputs (see TargetError), 0 before a render. */
   double
   GetEstimatedError() const
@@ -269,7 +298,8 @@ public:
   VerifySettings() const;
 
   /** Builds the attenuation volume and the sampler's tables now, if the input, transfer function or sampler changed
-   * since they were built (Update() does it otherwise): preprocessing once, before many renders. */
+   * since they were built (Update() does it otherwise): preprocessing once, before many renders. With
+   * ChooseEstimator the tables wait for the choice (exact rays need none): the attenuation volume alone. */
   void
   PrepareSampling();
 
@@ -358,6 +388,10 @@ private:
   /** Renders one pass of samples points (the session's next) and adds it to the passes; returns their estimate. */
   DRRPassCombination::Estimate
   RenderPass(const DRRPointRenderSession::Request & request, uint64_t samples);
+  /** Whether this render chooses its estimator (ChooseEstimator, a TargetError, the whole volume). */
+  bool
+  ChoosesTheEstimator() const;
+
   /** Adds passes until the estimated error is at most TargetError (see there). */
   DRRPassCombination::Estimate
   RefineToTarget(const DRRPointRenderSession::Request & request, DRRPassCombination::Estimate estimate);
@@ -379,6 +413,7 @@ private:
   uint64_t                      m_ExpectedNumberOfPoses{ 1 };
   double                        m_TargetError{ 0.0 };
   uint64_t                      m_MaximumNumberOfSamples{ uint64_t{ 1 } << 32 };
+  bool                          m_ChooseEstimator{ false };
 
   // What the renders are made of (the split, the sampler's tables, the kept points, the passes), and the renders.
   std::unique_ptr<DRRPointRenderSession> m_Session;

@@ -65,6 +65,9 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeRequest() const
   request.ComputeStandardError = m_ComputeStandardError;
   request.ReusePoints = m_ReusePoints;
   request.ExpectedNumberOfPoses = m_ExpectedNumberOfPoses;
+  request.TargetError = m_TargetError;
+  request.MaximumNumberOfSamples = m_MaximumNumberOfSamples;
+  request.ChooseEstimator = m_ChooseEstimator;
   return request;
 }
 
@@ -92,6 +95,10 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrepareSampling()
 {
   this->VerifySettings(); // called before Update() too (pbdrr times it apart)
   const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+  if (this->ChoosesTheEstimator())
+  {
+    return; // the tables wait for the choice: exact rays need none
+  }
   m_Session->Prepare(this->MakeRequest(), *volume, this->MakeProjection(*volume), this->GetMultiThreader());
 }
 
@@ -187,6 +194,15 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifySettings() const
   {
     itkExceptionMacro("TargetError needs the standard error it is estimated from: ComputeStandardError is Off");
   }
+  if (m_ChooseEstimator && !(m_TargetError > 0.0))
+  {
+    itkExceptionMacro("ChooseEstimator chooses the fastest estimator to a TargetError: set one above 0");
+  }
+  if (m_ChooseEstimator && m_PointWeighting != WeightingEnum::Unbiased)
+  {
+    itkExceptionMacro("ChooseEstimator needs the unbiased point weighting (its estimators are line integrals), not "
+                      << m_PointWeighting);
+  }
   if (m_ControlVariateFactor == 1)
   {
     itkExceptionMacro("ControlVariateFactor 1 would make the coarse image the exact one: use 0 (off), 2 to "
@@ -241,10 +257,34 @@ template <typename TInputImage, typename TOutputImage>
 void
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
 {
-  const bool                           refinement = m_Session->GetRefinementSamples() > 0;
-  const uint64_t                       samples = m_Session->BeginPass(m_NumberOfSamples);
-  const DRRPointRenderSession::Request request = this->MakeRequest();
+  const bool                     refinement = m_Session->GetRefinementSamples() > 0;
+  DRRPointRenderSession::Request request = this->MakeRequest();
+  uint64_t                       renderSamples = m_NumberOfSamples;
   this->UpdateProgress(0.0f);
+  if (this->ChoosesTheEstimator() && !refinement)
+  {
+    if (this->GetChannelLabels().size() > 1)
+    {
+      itkExceptionMacro("ChooseEstimator renders one image, not " << this->GetChannelLabels().size()
+                                                                  << " label channels: set the estimator by hand");
+    }
+    const DRRAttenuationVolume *        volume = this->GetAttenuationVolume();
+    const DRRPointProjection            projection = this->MakeProjection(*volume);
+    const DRREstimatorChoice::Candidate chosen =
+      m_Session->ChooseEstimator(request, *volume, projection, this->GetMultiThreader());
+    if (chosen.Kind == DRREstimatorChoice::Estimator::ExactRays)
+    {
+      const DRRPassCombination::Estimate exact =
+        m_Session->RenderExact(request, chosen.RaysPerSide, *volume, projection, this->GetMultiThreader(), this);
+      this->WriteOutputs(exact.LineIntegral, &exact.StandardError);
+      this->WriteChannelOutputs(exact.ChannelLineIntegral, &exact.ChannelCovariance);
+      this->UpdateProgress(1.0f);
+      return;
+    }
+    request.ControlVariateFactor = chosen.ControlVariateFactor;
+    renderSamples = chosen.NumberOfSamples;
+  }
+  const uint64_t               samples = m_Session->BeginPass(renderSamples);
   DRRPassCombination::Estimate estimate = this->RenderPass(request, samples);
   if (m_TargetError > 0.0 && !refinement)
   {
@@ -286,6 +326,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
   // The error of independent passes falls as 1 / sqrt(points): the points missing for the target, a tenth more so
   // that an estimate a little low does not cost a pass of a few points. Every pass adds at least a tenth of the
   // points, so the passes end, at the target or at MaximumNumberOfSamples.
+  // Chosen kept points are drawn again, more of them: the poses after this one re-project the first pass alone.
+  const bool drawAgain = request.ReusePoints && this->ChoosesTheEstimator();
   for (double error = m_Session->GetEstimatedError(); error > m_TargetError; error = m_Session->GetEstimatedError())
   {
     const double total = static_cast<double>(m_Session->GetPasses().GetNumberOfSamples());
@@ -297,9 +339,22 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
                                             << " at " << total << " points, and about " << wanted
                                             << " would be needed");
     }
+    if (drawAgain)
+    {
+      m_Session->RaiseChosenSamples(static_cast<uint64_t>(wanted));
+      estimate = this->RenderPass(request, m_Session->BeginPass(static_cast<uint64_t>(wanted)));
+      continue;
+    }
     estimate = this->RenderPass(request, static_cast<uint64_t>(wanted - total));
   }
   return estimate;
+}
+
+template <typename TInputImage, typename TOutputImage>
+bool
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::ChoosesTheEstimator() const
+{
+  return m_ChooseEstimator && m_TargetError > 0.0 && this->GetNumberOfSlabs() <= 1;
 }
 
 template <typename TInputImage, typename TOutputImage>
@@ -345,6 +400,7 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::PrintSelf(std::ostream & os
   os << indent << "ComputeStandardError: " << (m_ComputeStandardError ? "On" : "Off") << std::endl;
   os << indent << "TargetError: " << m_TargetError << std::endl;
   os << indent << "MaximumNumberOfSamples: " << m_MaximumNumberOfSamples << std::endl;
+  os << indent << "ChooseEstimator: " << (m_ChooseEstimator ? "On" : "Off") << std::endl;
   os << indent << "EstimatedError: " << this->GetEstimatedError() << std::endl;
   os << indent << "Sampler: " << (m_Sampler ? m_Sampler->GetNameOfClass() : "(none)") << std::endl;
   os << indent << "TotalMass (mm^2): " << this->GetTotalMass() << std::endl;

@@ -209,6 +209,53 @@ DRRExactRayIntegrator::TraverseBox(MuReaderType  mu,
   return integral;
 }
 
+bool
+DRRExactRayIntegrator::ClipToGrid(const double p0[3], const double p1[3], double d[3], double & tEnter, double & tExit)
+  const
+{
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    d[a] = p1[a] - p0[a];
+    const double low = m_GridStart;
+    const double high = m_GridStart + static_cast<double>(m_NumberOfCells[a]);
+    if (d[a] == 0.0)
+    {
+      if (p0[a] <= low || p0[a] >= high)
+      {
+        return false;
+      }
+      continue;
+    }
+    const double t1 = (low - p0[a]) / d[a];
+    const double t2 = (high - p0[a]) / d[a];
+    tEnter = std::max(tEnter, std::min(t1, t2));
+    tExit = std::min(tExit, std::max(t1, t2));
+  }
+  return tEnter < tExit;
+}
+
+double
+DRRExactRayIntegrator::CountCrossedCells(const DRRPointProjection & projection, double column, double row) const
+{
+  double p0[3];
+  double p1[3];
+  this->ComputeRaySegment(projection, column, row, p0, p1);
+  double d[3];
+  double tEnter = 0.0;
+  double tExit = 1.0;
+  if (!this->ClipToGrid(p0, p1, d, tEnter, tExit))
+  {
+    return 0.0;
+  }
+  // Each plane crossed starts a cell: the planes of an axis a segment crosses are its extent along the axis.
+  double cells = 1.0;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    cells += std::abs(d[a]) * (tExit - tEnter);
+  }
+  return cells;
+}
+
 double
 DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
                                         const double p1[3],
@@ -222,25 +269,7 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
   double d[3];
   double tEnter = 0.0;
   double tExit = 1.0;
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    d[a] = p1[a] - p0[a];
-    const double low = m_GridStart;
-    const double high = m_GridStart + static_cast<double>(m_NumberOfCells[a]);
-    if (d[a] == 0.0)
-    {
-      if (p0[a] <= low || p0[a] >= high)
-      {
-        return 0.0;
-      }
-      continue;
-    }
-    const double t1 = (low - p0[a]) / d[a];
-    const double t2 = (high - p0[a]) / d[a];
-    tEnter = std::max(tEnter, std::min(t1, t2));
-    tExit = std::min(tExit, std::max(t1, t2));
-  }
-  if (!(tEnter < tExit))
+  if (!this->ClipToGrid(p0, p1, d, tEnter, tExit))
   {
     return 0.0;
   }

@@ -23,6 +23,7 @@
 #include "itkDRRControlVariate.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkDRRTransferFunction.h"
+#include "itkEuler3DTransform.h"
 #include "PointBasedDRRTestHelpers.h"
 
 #include "gtest/gtest.h"
@@ -561,5 +562,181 @@ TEST(PointBasedDRRTargetError, RefusesATargetBeyondItsBudgetAndOneWithoutStandar
   filter->ComputeStandardErrorOn();
   EXPECT_NO_THROW(filter->Update());
   EXPECT_LE(filter->GetEstimatedError(), 0.05);
+}
+
+// The choice of estimator for a target (DRREstimatorChoice, PointBasedDRRImageFilter::ChooseEstimator) on the
+// asymmetric phantom seen obliquely in perspective: its edges cross the pixels, so one ray per pixel has an error.
+itk::DRRProjectionGeometry::Pointer
+ObliquePhantomGeometry()
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetGantryAngleInDegrees(30.0);
+  geometry->SetDetectorSize({ { 40, 40 } });
+  itk::Vector<double, 2> spacing;
+  spacing.Fill(4.0);
+  geometry->SetDetectorSpacing(spacing);
+  return geometry;
+}
+
+ProjectionType::Pointer
+ExactImage(const MuVolumeType * volume, itk::DRRProjectionGeometry * geometry, unsigned int raysPerSide)
+{
+  auto exact = itk::ExactDRRImageFilter<MuVolumeType, ProjectionType>::New();
+  exact->SetInput(volume);
+  exact->SetGeometry(geometry);
+  exact->SetRaysPerPixelSide(raysPerSide);
+  exact->Update();
+  return exact->GetOutput();
+}
+
+FilterType::Pointer
+MakeChoosingFilter(const MuVolumeType * volume, itk::DRRProjectionGeometry * geometry, double target)
+{
+  auto filter = FilterType::New();
+  filter->SetInput(volume);
+  filter->SetGeometry(geometry);
+  filter->SetTargetError(target);
+  filter->ChooseEstimatorOn();
+  return filter;
+}
+
+// The pilot's exact errors are upper estimates of the true ones (against 16 x 16 rays per pixel), and not wildly
+// pessimistic: the rule e_k = RMS(v_k - v_8) / (1 - k / 8) holds for an error that falls as 1 / k or faster.
+TEST(DRREstimatorChoice, ExactErrorsBoundTheTrueOnes)
+{
+  const auto volume = MakeAsymmetricPhantom();
+  const auto geometry = ObliquePhantomGeometry();
+  const auto reference = ExactImage(volume, geometry, 16);
+  auto       filter = MakeChoosingFilter(volume, geometry, 0.5);
+  filter->Update();
+  const itk::DRREstimatorChoice * choice = filter->GetEstimatorChoice();
+  ASSERT_NE(choice, nullptr);
+  for (const unsigned int k : { 1u, 2u, 4u })
+  {
+    const double truth = RelativeRmsError(ExactImage(volume, geometry, k), reference);
+    const double predicted = choice->GetExactError(k);
+    EXPECT_GT(truth, 0.0) << k << " rays per side: the edges cross the pixels";
+    // The pilot's 256 of 1600 pixels: its RMS has a spread of about 1 / sqrt(2 * 256) relative, 5 sigma of it.
+    EXPECT_LE(truth, predicted * (1.0 + zBound / std::sqrt(2.0 * 256.0))) << k << " rays per side";
+    EXPECT_GE(truth, predicted / 4.0) << k << " rays per side";
+  }
+}
+
+// Choose() never picks an estimator whose predicted error is above the target, and picks the least work of those
+// that reach it, whatever the costs: for targets from 5% to below what any estimator reaches, 1 and 10^6 poses, the
+// default cost model and one where points are nearly free.
+TEST(DRREstimatorChoice, NeverPicksAnEstimatorWhoseEstimateIsAboveTheTarget)
+{
+  const auto volume = MakeAsymmetricPhantom();
+  auto       filter = MakeChoosingFilter(volume, ObliquePhantomGeometry(), 0.5);
+  filter->Update();
+  itk::DRREstimatorChoice choice = *filter->GetEstimatorChoice();
+  auto                    cheapPoints = choice.GetCostModel();
+  cheapPoints.PointNanoseconds = 1e-3;
+  cheapPoints.KeptPointNanoseconds = 1e-4;
+  cheapPoints.TableNanosecondsPerVoxel = 1e-3;
+  bool pointsChosen = false;
+  bool exactChosen = false;
+  for (const auto & model : { itk::DRREstimatorChoice::CostModel{}, cheapPoints })
+  {
+    choice.SetCostModel(model);
+    for (const double target : { 0.05, 0.01, 0.003, 0.001, 0.0003 })
+    {
+      for (const uint64_t poses : { uint64_t{ 1 }, uint64_t{ 1000000 } })
+      {
+        const auto candidates = choice.ListCandidates(target, poses, true);
+        const auto chosen = choice.Choose(target, poses, true, uint64_t{ 1 } << 40);
+        EXPECT_LE(chosen.Error, target) << chosen.Describe() << " for " << target;
+        for (const auto & candidate : candidates)
+        {
+          if (candidate.Error <= target)
+          {
+            EXPECT_LE(chosen.Seconds, candidate.Seconds) << chosen.Describe() << " over " << candidate.Describe();
+          }
+        }
+        pointsChosen |= chosen.Kind == itk::DRREstimatorChoice::Estimator::Points;
+        exactChosen |= chosen.Kind == itk::DRREstimatorChoice::Estimator::ExactRays;
+      }
+    }
+  }
+  EXPECT_TRUE(pointsChosen && exactChosen) << "the sweep chose both kinds";
+  // Below what 16 x 16 rays reach, with points beyond the budget: refused, with the reason.
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { choice.Choose(1e-9, 1, true, 1000); }, "unreachable"),
+                       "no estimator is predicted to reach the target error"));
+}
+
+// ChooseEstimator reaches the target against the exact image at every seed: the exact rays of a single view, and
+// the kept points of many poses (where points are chosen), whose estimate and true error are at most the target.
+TEST(PointBasedDRRChooseEstimator, ReachesTheTargetAgainstTheExactImageAtEverySeed)
+{
+  const auto volume = MakeAsymmetricPhantom();
+  const auto geometry = ObliquePhantomGeometry();
+  const auto reference = ExactImage(volume, geometry, 16);
+  for (const double target : { 0.02, 0.01 })
+  {
+    auto single = MakeChoosingFilter(volume, geometry, target);
+    single->Update();
+    EXPECT_EQ(single->GetChosenEstimator().Kind, itk::DRREstimatorChoice::Estimator::ExactRays);
+    EXPECT_LE(RelativeRmsError(single->GetOutput(), reference), target) << single->GetChosenEstimator().Describe();
+    EXPECT_LE(single->GetEstimatedError(), target);
+  }
+  constexpr double target = 0.05;
+  const double     spread = std::sqrt(1.0 / (2.0 * 1600.0) + 1.0 / (6.0 * 1600.0)); // of true / estimated error
+  for (uint64_t seed = 0; seed < 4; ++seed)
+  {
+    auto kept = MakeChoosingFilter(volume, geometry, target);
+    kept->SetSeed(seed);
+    kept->ReusePointsOn();
+    kept->SetExpectedNumberOfPoses(1000000);
+    kept->Update();
+    EXPECT_EQ(kept->GetChosenEstimator().Kind, itk::DRREstimatorChoice::Estimator::Points)
+      << kept->GetChosenEstimator().Describe();
+    EXPECT_LE(kept->GetEstimatedError(), target) << "seed " << seed;
+    EXPECT_LE(RelativeRmsError(kept->GetOutput(), reference), target * (1.0 + zBound * spread)) << "seed " << seed;
+    EXPECT_EQ(kept->GetTotalNumberOfSamples(), kept->GetChosenEstimator().NumberOfSamples)
+      << "one pass of kept points: the next poses re-project all of them";
+  }
+  // A sampler whose error the choice underestimates (uniform in the volume, not in proportion to mu): the first
+  // pose's kept points miss the target, are drawn again, more of them, and the next pose re-projects those.
+  auto kept = MakeChoosingFilter(volume, geometry, target);
+  kept->SetSampler(itk::DRRSamplerFactory::Create("mcvr"));
+  kept->ReusePointsOn();
+  kept->SetExpectedNumberOfPoses(1000000);
+  kept->Update();
+  ASSERT_EQ(kept->GetChosenEstimator().Kind, itk::DRREstimatorChoice::Estimator::Points);
+  EXPECT_GE(kept->GetNumberOfPointCloudDraws(), 2u) << "drawn again";
+  EXPECT_LE(kept->GetEstimatedError(), target);
+  EXPECT_EQ(kept->GetTotalNumberOfSamples(), kept->GetChosenEstimator().NumberOfSamples);
+  auto transform = itk::Euler3DTransform<double>::New();
+  transform->SetTranslation(Vec(2.0, 0.0, 1.0));
+  kept->SetTransform(transform);
+  const unsigned int draws = kept->GetNumberOfPointCloudDraws();
+  kept->Update();
+  EXPECT_EQ(kept->GetNumberOfPointCloudDraws(), draws) << "the next pose re-projects the points drawn again";
+  EXPECT_LE(kept->GetEstimatedError(), target * (1.0 + zBound * spread)) << "the next pose";
+}
+
+// The choice is made of counts, not of a clock: the same estimator and the same image on 1 and 2 threads. Bad
+// settings are refused before any render.
+TEST(PointBasedDRRChooseEstimator, SameImageOnAnyThreadsAndRefusesBadSettings)
+{
+  const auto          volume = MakeAsymmetricPhantom();
+  const auto          geometry = ObliquePhantomGeometry();
+  std::vector<double> images[2];
+  for (const unsigned int threads : { 1u, 2u })
+  {
+    auto filter = MakeChoosingFilter(volume, geometry, 0.01);
+    filter->SetNumberOfWorkUnits(threads);
+    filter->Update();
+    images[threads - 1] = ToVector(filter->GetOutput());
+  }
+  EXPECT_EQ(images[0], images[1]);
+  auto filter = MakeChoosingFilter(volume, geometry, 0.0);
+  EXPECT_TRUE(Contains(UpdateError(filter), "ChooseEstimator chooses the fastest estimator to a TargetError"));
+  filter->SetTargetError(1e-9);
+  EXPECT_TRUE(Contains(UpdateError(filter), "no estimator is predicted to reach the target error"));
+  filter->SetTargetError(0.01);
+  filter->SetPointWeighting(itk::PointBasedDRREnums::PointWeighting::PaperCount);
+  EXPECT_TRUE(Contains(UpdateError(filter), "ChooseEstimator needs the unbiased point weighting"));
 }
 } // namespace

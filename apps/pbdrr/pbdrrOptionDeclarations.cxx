@@ -238,13 +238,19 @@ OptionDeclarations()
     Option("--geometry-from").In(Geometry).Takes("FILE").Only(one, oneView).Sets(&Options::geometryFrom)
       .Help("the view and pixel grid of a CT localizer (DICOM), from its header: distances, position,\n"
             "orientation, pixel spacing (at the isocenter plane); instead of the flags above"),
-    Option("--samples").In(Rendering).Takes("N").Sets(&Options::samples, ParseSampleCount)
+    Option("--samples").In(Rendering).Takes("N")
+      .Does([](Options & o, const Values & v) {
+        o.samples = ParseSampleCount(v[0]);
+        o.samplesGiven = true; // --accuracy then refines these points instead of choosing the estimator
+      })
       .Default(std::to_string(itk::DRRPointRenderer::DefaultNumberOfSamples / 1000000) + "M")
       .Help("number of points: 1e7, 16M, 2.5G, 1000000 (default {default})"),
     Option("--accuracy").In(Rendering).Takes("PCT").Only(one, "--accuracy renders one view to a stated error")
       .Sets(&Options::accuracyPercent, Percent)
-      .Help("the error to reach, percent: --samples points first, then passes of as many more as the\n"
-            "estimate asks, until the RMS standard error over the image's range is at most PCT (-v says)"),
+      .Help("the error to reach, percent (RMS error over the image's range): the estimator predicted\n"
+            "to get there with the least work, exact rays (k x k per pixel), points or a control\n"
+            "variate, its points refined until their estimate is at most PCT; with --samples or\n"
+            "--control-variate, those points refined (-v lists the candidates and says)"),
     Option("--sampler").In(Rendering).Takes("NAME").Default(defaults.sampler).Sets(&Options::sampler, Sampler)
       .Help("how points are drawn (default {default}):")
       .Choices(PolicyChoices(itk::DRRSamplerFactory::GetEntries())),

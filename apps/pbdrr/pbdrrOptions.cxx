@@ -210,8 +210,8 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   // (VerifyRenderSettings()); there `auto` resolves to off where the control variate cannot apply.
   if (options.exact && options.accuracyPercent)
   {
-    throw UsageError("--accuracy applies to point sampling, not to --exact (the exact projector's error is not "
-                     "estimated)");
+    throw UsageError("--accuracy chooses its estimator, exact rays among them: give --accuracy or --exact, not "
+                     "both");
   }
   if (options.exact && options.paperCount)
   {
