@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""Does `pbdrr --accuracy PCT` reach the asked error, and as fast as the fastest setting that does? (issue 41)
+
+    /usr/bin/python3 benchmark/accuracy_target.py PBDRR OUT CASE=VOLUME [CASE=VOLUME ...] [--targets 2,1,0.5,0.25]
+                                                  [--runs 3]
+
+A case's VOLUME is a CT file or DICOM folder; its view is the case's name's (VIEWS below). Per case: the reference, the
+exact pixel average with 16 x 16 rays per pixel (`--exact siddon --ss 16`); per target T (percent): `--accuracy T -v`
+(what it chose, its NRMSE against the reference, the median wall time of RUNS whole processes) and a search over
+settings: exact rays with 1, 2, 4 x 4 per pixel, and points with the control variate off, F 2 and F 8 at the points
+their own refinement to T needed (`--samples 1e5 --accuracy T --control-variate F` from a small start); the fastest
+setting whose NRMSE is at most T. NRMSE = RMSE / (max - min of the reference). Markdown on stdout; OUT/result.json.
+"""
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+VIEWS = {
+    'chest': ['--gantry', '90', '--size', '256', '256', '--spacing', '2.4', '2.4'],
+    'head': ['--gantry', '0', '--size', '512', '512', '--spacing', '0.8', '0.8'],
+    'x2': ['--gantry', '90', '--size', '256', '256', '--spacing', '2.4', '2.4'],
+}
+
+
+def read_mha(path):
+    data = open(path, 'rb').read()
+    key = b'ElementDataFile = LOCAL\n'
+    return np.frombuffer(data[data.index(key) + len(key):], dtype=np.float32).astype(float)
+
+
+def nrmse(path, reference):
+    image = read_mha(path)
+    return float(np.sqrt(np.mean((image - reference) ** 2)) / (reference.max() - reference.min()))
+
+
+def run(pbdrr, args, runs):
+    """Median wall seconds of runs whole processes, and the last run's stderr."""
+    times = []
+    stderr = ''
+    for _ in range(runs):
+        start = time.perf_counter()
+        done = subprocess.run([pbdrr] + args, capture_output=True, text=True)
+        times.append(time.perf_counter() - start)
+        if done.returncode != 0:
+            sys.exit('accuracy_target: %s failed: %s' % (' '.join(args), done.stderr))
+        stderr = done.stderr
+    return statistics.median(times), stderr
+
+
+def main():
+    arguments = sys.argv[1:]
+    targets = [2.0, 1.0, 0.5, 0.25]
+    runs = 3
+    if '--targets' in arguments:
+        i = arguments.index('--targets')
+        targets = [float(t) for t in arguments[i + 1].split(',')]
+        del arguments[i:i + 2]
+    if '--runs' in arguments:
+        i = arguments.index('--runs')
+        runs = int(arguments[i + 1])
+        del arguments[i:i + 2]
+    pbdrr, out = arguments[0], arguments[1]
+    cases = [a.split('=', 1) for a in arguments[2:]]
+    os.makedirs(out, exist_ok=True)
+    results = []
+    print('| case | target | chosen | its NRMSE | its time (s) | fastest found | its NRMSE | its time (s) | chosen / '
+          'fastest | exact 1 ray: NRMSE, s |')
+    print('|---|---|---|---|---|---|---|---|---|---|')
+    for name, volume in cases:
+        view = VIEWS[name]
+        reference_path = os.path.join(out, name + '_ref16.mha')
+        if not os.path.exists(reference_path):
+            run(pbdrr, [volume, '-o', reference_path] + view + ['--exact', 'siddon', '--ss', '16', '-q'], 1)
+        reference = read_mha(reference_path)
+        exact = {}
+        for k in (1, 2, 4):
+            path = os.path.join(out, '%s_exact%d.mha' % (name, k))
+            seconds, _ = run(pbdrr, [volume, '-o', path] + view + ['--exact', 'siddon', '--ss', str(k), '-q'], runs)
+            exact[k] = (nrmse(path, reference), seconds)
+        for target in targets:
+            path = os.path.join(out, '%s_chosen.mha' % name)
+            seconds, stderr = run(pbdrr, [volume, '-o', path] + view + ['--accuracy', str(target), '-v'], runs)
+            chosen = re.search(r'accuracy: chose (.*), the least', stderr).group(1)
+            chosen_error = nrmse(path, reference)
+            settings = [('exact %d x %d rays' % (k, k), exact[k][0], exact[k][1]) for k in (1, 2, 4)]
+            for factor in ('off', '2', '8'):
+                _, stderr = run(pbdrr, [volume, '-o', path] + view +
+                                ['--samples', '1e5', '--control-variate', factor, '--accuracy', str(target), '-v'], 1)
+                points = int(re.search(r'with (\d+) points in all', stderr).group(1))
+                setting = ['--samples', str(points), '--control-variate', factor]
+                seconds_points, _ = run(pbdrr, [volume, '-o', path] + view + setting + ['-q'], runs)
+                settings.append(('points %d, control variate %s' % (points, factor), nrmse(path, reference),
+                                 seconds_points))
+            reaching = [s for s in settings if s[1] <= target / 100.0]
+            fastest = min(reaching, key=lambda s: s[2]) if reaching else ('none', float('nan'), float('nan'))
+            row = {'case': name, 'target_percent': target, 'chosen': chosen, 'chosen_nrmse': chosen_error,
+                   'chosen_seconds': seconds, 'fastest': fastest[0], 'fastest_nrmse': fastest[1],
+                   'fastest_seconds': fastest[2], 'settings': settings, 'exact1': exact[1]}
+            results.append(row)
+            print('| %s | %g%% | %s | %.3f%% | %.3f | %s | %.3f%% | %.3f | %.2f | %.3f%%, %.3f |' % (
+                name, target, chosen, 100 * chosen_error, seconds, fastest[0], 100 * fastest[1], fastest[2],
+                seconds / fastest[2], 100 * exact[1][0], exact[1][1]), flush=True)
+    with open(os.path.join(out, 'result.json'), 'w') as handle:
+        json.dump(results, handle, indent=1)
+
+
+if __name__ == '__main__':
+    main()
