@@ -88,15 +88,15 @@ public:
   struct CostModel
   {
     /** An exact ray: a fixed part (the ray's setup and clipping) and a part per cell it crosses. */
-    double RayNanoseconds{ 600.0 };
-    double CellNanoseconds{ 1.4 };
+    double RayNanoseconds{ 250.0 };
+    double CellNanoseconds{ 2.0 };
     /** The sampler's tables, per voxel of the volume (drawn once for every pose). */
     double TableNanosecondsPerVoxel{ 1.4 };
     /** The control variate's split (block means and residual), per voxel. */
     double SplitNanosecondsPerVoxel{ 0.9 };
     /** To draw and splat one point; to splat a kept point at one more pose. */
     double PointNanoseconds{ 40.0 };
-    double KeptPointNanoseconds{ 6.0 };
+    double KeptPointNanoseconds{ 3.0 };
     /** Rays per pixel of the control variate's coarse image (2 replicates of an antithetic pair). */
     double CoarseRaysPerPixel{ 4.0 };
     /** The sampler's error over mean(L) sqrt(P / N) / range (the stratified sampler's, on the chest and the head). */

@@ -32,6 +32,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <tuple>
 
 namespace itk
 {
@@ -173,6 +174,18 @@ public:
   RaiseChosenSamples(uint64_t samples)
   {
     m_Chosen.NumberOfSamples = samples;
+  }
+  /** Whether the choice kept for kept points is settled: its first render is done (the points it drew then are those
+   * of every pose after it, whatever their estimates). */
+  bool
+  IsChoiceSettled() const
+  {
+    return m_ChoiceSettled;
+  }
+  void
+  SettleChoice()
+  {
+    m_ChoiceSettled = true;
   }
   /** The pilot of the last choice (null before one). */
   const DRREstimatorChoice *
@@ -348,7 +361,11 @@ private:
   // The estimator chosen for a target: the pilot, its choice, and what it was made for (kept points keep it).
   std::unique_ptr<DRREstimatorChoice> m_Choice;
   DRREstimatorChoice::Candidate       m_Chosen;
-  std::array<double, 6>               m_ChoiceMadeFor{ {} };
+  // The volume's time, target, poses, kernel, control variate allowed, budget, seed and sampler.
+  using ChoiceMadeFor =
+    std::tuple<ModifiedTimeType, double, uint64_t, unsigned int, bool, uint64_t, uint64_t, const DRRPointSampler *>;
+  ChoiceMadeFor m_ChoiceMadeFor;
+  bool          m_ChoiceSettled{ false };
 };
 } // namespace itk
 

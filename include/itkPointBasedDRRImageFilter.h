@@ -120,10 +120,11 @@ public:
    * ExactDRRImageFilter renders them, whose standard-error output is zero and whose estimated error is the pilot's;
    * plain points; or points with a control variate of factor F (with the box kernel). Points are drawn in the number
    * predicted for the target and then refined to it as without the choice; with ReusePoints the choice of the first
-   * pose is kept (see ExpectedNumberOfPoses), and a first pose whose estimate misses the target draws its kept points
-   * again, more of them. The settings the choice makes (NumberOfSamples, ControlVariateFactor) are the filter's no
-   * longer; the sampler, kernel, splat, seed and strata stay. A streamed render (GetNumberOfSlabs() > 1) renders
-   * points: the exact rays need the whole volume. Needs the unbiased weighting and no label channels. */
+   * pose is kept (see ExpectedNumberOfPoses), a first pose whose estimate misses the target draws its kept points
+   * again, more of them, and the poses after it re-project those (GetEstimatedError() says each one's estimate). The
+   * settings the choice makes (NumberOfSamples, ControlVariateFactor) are the filter's no longer; the sampler, kernel,
+   * splat, seed and strata stay. A streamed render (GetNumberOfSlabs() > 1) renders points: the exact rays need the
+   * whole volume. Needs the unbiased weighting and no label channels. */
   itkSetMacro(ChooseEstimator, bool);
   itkGetConstMacro(ChooseEstimator, bool);
   itkBooleanMacro(ChooseEstimator);

@@ -290,6 +290,10 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::GenerateData()
   {
     estimate = this->RefineToTarget(request, std::move(estimate));
   }
+  if (request.ReusePoints && this->ChoosesTheEstimator())
+  {
+    m_Session->SettleChoice(); // the next poses re-project these points, whatever their estimates
+  }
   this->WriteOutputs(estimate.LineIntegral, &estimate.StandardError);
   this->WriteChannelOutputs(estimate.ChannelLineIntegral, &estimate.ChannelCovariance);
   this->UpdateProgress(1.0f);
@@ -326,8 +330,14 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
   // The error of independent passes falls as 1 / sqrt(points): the points missing for the target, a tenth more so
   // that an estimate a little low does not cost a pass of a few points. Every pass adds at least a tenth of the
   // points, so the passes end, at the target or at MaximumNumberOfSamples.
-  // Chosen kept points are drawn again, more of them: the poses after this one re-project the first pass alone.
-  const bool drawAgain = request.ReusePoints && this->ChoosesTheEstimator();
+  // Chosen kept points are drawn again, more of them, at the choice's first pose: the poses after it re-project
+  // them alone, whatever their estimates, so that every pose's image is a function of the first pose and its own.
+  const bool chosenKeptPoints = request.ReusePoints && this->ChoosesTheEstimator();
+  if (chosenKeptPoints && m_Session->IsChoiceSettled())
+  {
+    return estimate;
+  }
+  const bool drawAgain = chosenKeptPoints;
   for (double error = m_Session->GetEstimatedError(); error > m_TargetError; error = m_Session->GetEstimatedError())
   {
     const double total = static_cast<double>(m_Session->GetPasses().GetNumberOfSamples());

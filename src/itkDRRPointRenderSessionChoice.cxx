@@ -27,14 +27,16 @@ DRRPointRenderSession::ChooseEstimator(const Request &              request,
                                        const DRRPointProjection &   projection,
                                        MultiThreaderBase *          threader)
 {
-  const uint64_t              poses = request.ReusePoints ? request.ExpectedNumberOfPoses : 1;
-  const bool                  controlVariate = ControlVariateApplies(request);
-  const std::array<double, 6> madeFor{ { static_cast<double>(volume.GetMTime()),
-                                         request.TargetError,
-                                         static_cast<double>(poses),
-                                         static_cast<double>(request.Settings.Kernel),
-                                         static_cast<double>(controlVariate),
-                                         static_cast<double>(request.MaximumNumberOfSamples) } };
+  const uint64_t      poses = request.ReusePoints ? request.ExpectedNumberOfPoses : 1;
+  const bool          controlVariate = ControlVariateApplies(request);
+  const ChoiceMadeFor madeFor{ volume.GetMTime(),
+                               request.TargetError,
+                               poses,
+                               static_cast<unsigned int>(request.Settings.Kernel),
+                               controlVariate,
+                               request.MaximumNumberOfSamples,
+                               request.Settings.Seed,
+                               request.Sampler };
   if (request.ReusePoints && m_Choice && madeFor == m_ChoiceMadeFor)
   {
     return m_Chosen;
@@ -44,6 +46,7 @@ DRRPointRenderSession::ChooseEstimator(const Request &              request,
   m_Chosen = choice->Choose(request.TargetError, poses, controlVariate, request.MaximumNumberOfSamples);
   m_Choice = std::move(choice);
   m_ChoiceMadeFor = madeFor;
+  m_ChoiceSettled = false;
   return m_Chosen;
 }
 

@@ -117,37 +117,6 @@ ReadsStandardError(const Options & options)
   return !options.standardErrorOutput.empty() || IsPolychromatic(options) || options.accuracyPercent.has_value();
 }
 
-/** -v's lines of --accuracy: the candidates of the choice (if the filter chose), what it chose and why, and the error
- * it estimates. */
-template <typename TFilter>
-void
-PrintAccuracy(const TFilter & filter, double askedPercent)
-{
-  const itk::DRREstimatorChoice * choice = filter.GetChooseEstimator() ? filter.GetEstimatorChoice() : nullptr;
-  if (choice)
-  {
-    const auto & chosen = filter.GetChosenEstimator();
-    std::cerr << "pbdrr: accuracy: pilot of " << itk::DRREstimatorChoice::PilotGridSide << " x "
-              << itk::DRREstimatorChoice::PilotGridSide << " pixels: mean line integral "
-              << choice->GetMeanLineIntegral() << ", range " << choice->GetRange()
-              << "; predicted error and CPU time to " << askedPercent << "%:" << std::endl;
-    const auto candidates =
-      choice->ListCandidates(askedPercent / 100.0,
-                             filter.GetReusePoints() ? filter.GetExpectedNumberOfPoses() : 1,
-                             filter.GetReconstructionKernel() == itk::PointBasedDRREnums::ReconstructionKernel::Box);
-    for (const auto & candidate : candidates)
-    {
-      const bool reaches = candidate.Error <= askedPercent / 100.0;
-      std::cerr << "pbdrr: accuracy:   " << candidate.Describe() << ": " << 100.0 * candidate.Error << "% in "
-                << candidate.Seconds << " s" << (reaches ? "" : " (misses the target)") << std::endl;
-    }
-    std::cerr << "pbdrr: accuracy: chose " << chosen.Describe()
-              << ", the least predicted work of those that reach the target" << std::endl;
-  }
-  std::cerr << "pbdrr: accuracy: estimated error " << 100.0 * filter.GetEstimatedError() << "% (asked " << askedPercent
-            << "%) with " << filter.GetTotalNumberOfSamples() << " points in all" << std::endl;
-}
-
 itk::DRRXRaySpectrum::Pointer
 MakeSpectrum(const Options & options)
 {

@@ -502,12 +502,24 @@ template <typename TVolume>
 void
 FixAutomaticFactor(const Options & options, const BatchPlan & plan, const Renderer<TVolume> & renderer)
 {
-  if (!renderer.Points || options.independentViews ||
-      options.controlVariate != PointFilterType<TVolume>::AutomaticControlVariateFactor)
+  if (!renderer.Points || options.independentViews)
   {
     return;
   }
   const TVolume * volume = renderer.Filter->GetInput();
+  if (renderer.Points->GetChooseEstimator())
+  {
+    // --accuracy: the estimator, and the kept points with the number that view 0's estimate asked, are view 0's.
+    renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
+    const ViewSpec & view = plan.Views.front();
+    renderer.Filter->SetTransform(view.Pose ? MakePoseTransform(volume, *view.Pose)->GetInverseTransform() : nullptr);
+    renderer.Filter->Update();
+    return;
+  }
+  if (options.controlVariate != PointFilterType<TVolume>::AutomaticControlVariateFactor)
+  {
+    return;
+  }
   renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
   if (renderer.Filter->GetNumberOfSlabs() > 1)
   {
@@ -589,6 +601,7 @@ RenderViews(const Options &           options,
   }
   const double             renderStart = SteadySeconds();
   double                   firstViewSeconds = 0.0;
+  double                   largestError = 0.0; // of the views' estimates (--accuracy)
   VolumeType::Pointer      stack;
   std::vector<std::string> notes;
   for (size_t s = 0; s < plan.Selected.size(); ++s)
@@ -621,6 +634,7 @@ RenderViews(const Options &           options,
     }
     progress.ViewDone();
     firstViewSeconds = s == 0 ? SteadySeconds() - renderStart : firstViewSeconds;
+    largestError = renderer.Points ? std::max(largestError, renderer.Points->GetEstimatedError()) : 0.0;
   }
   if (stack)
   {
@@ -633,6 +647,12 @@ RenderViews(const Options &           options,
   {
     PrintBatchTimes(
       loadSeconds, firstViewSeconds, SteadySeconds() - renderStart - firstViewSeconds, plan.Selected.size(), renderer);
+    if (options.accuracyPercent && renderer.Points)
+    {
+      PrintAccuracy(*renderer.Points, *options.accuracyPercent);
+      std::cerr << "pbdrr: accuracy: the largest estimated error of the " << plan.Selected.size() << " views "
+                << 100.0 * largestError << "% (asked " << *options.accuracyPercent << "%)" << std::endl;
+    }
   }
 }
 } // namespace

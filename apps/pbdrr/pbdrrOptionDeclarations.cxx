@@ -245,12 +245,15 @@ OptionDeclarations()
       })
       .Default(std::to_string(itk::DRRPointRenderer::DefaultNumberOfSamples / 1000000) + "M")
       .Help("number of points: 1e7, 16M, 2.5G, 1000000 (default {default})"),
-    Option("--accuracy").In(Rendering).Takes("PCT").Only(one, "--accuracy renders one view to a stated error")
+    Option("--accuracy").In(Rendering).Takes("PCT")
+      .Only(one | batch, "--accuracy renders the views of one volume to a stated error (a manifest's volumes "
+                         "are rendered as set)")
       .Sets(&Options::accuracyPercent, Percent)
       .Help("the error to reach, percent (RMS error over the image's range): the estimator predicted\n"
             "to get there with the least work, exact rays (k x k per pixel), points or a control\n"
             "variate, its points refined until their estimate is at most PCT; with --samples or\n"
-            "--control-variate, those points refined (-v lists the candidates and says)"),
+            "--control-variate, those points refined (-v lists the candidates and says); a batch\n"
+            "chooses at its view 0 for all its views, whose kept points are drawn there"),
     Option("--sampler").In(Rendering).Takes("NAME").Default(defaults.sampler).Sets(&Options::sampler, Sampler)
       .Help("how points are drawn (default {default}):")
       .Choices(PolicyChoices(itk::DRRSamplerFactory::GetEntries())),

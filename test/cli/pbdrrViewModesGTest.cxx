@@ -366,7 +366,7 @@ ViewModeCases()
     { "accuracy",
       with(with(points, small), { "--accuracy", "50" }),
       Render::Points,
-      batchesRefuse("--accuracy renders one view to a stated error") },
+      { { Mode::Manifest, "--accuracy renders the views of one volume to a stated error" } } },
     { "seed", with(with(points, small), { "--seed", "11" }), Render::Points },
     { "threads", with(with(points, small), { "--threads", "1" }), Render::Points },
     { "paper_count", with(with(points, small), { "--paper-count" }), Render::Points },
