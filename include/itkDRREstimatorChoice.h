@@ -59,19 +59,20 @@ namespace itk
 class PointBasedDRR_EXPORT DRREstimatorChoice
 {
 public:
+  /** Box (Siddon) or Tent (trilinear) voxel model of the exact rays. */
   using KernelEnum = PointBasedDRREnums::ReconstructionKernel;
 
   /** Exact rays (DRRExactRayIntegrator::RenderProjection()), or points (with or without a control variate). */
   enum class Estimator : uint8_t
   {
-    ExactRays,
-    Points
+    ExactRays, ///< DRRExactRayIntegrator::RenderProjection(), k x k rays per pixel
+    Points     ///< points, plain or with a control variate
   };
 
   /** One way to the target, with what it is predicted to cost and to reach. */
   struct Candidate
   {
-    Estimator    Kind{ Estimator::Points };
+    Estimator    Kind{ Estimator::Points }; ///< exact rays or points
     unsigned int RaysPerSide{ 0 };          ///< exact: k, k x k rays per pixel
     unsigned int ControlVariateFactor{ 0 }; ///< points: 0 (plain) or F
     uint64_t     NumberOfSamples{ 0 };      ///< points: N, the fewest predicted to reach the target
@@ -89,6 +90,7 @@ public:
   {
     /** An exact ray: a fixed part (the ray's setup and clipping) and a part per cell it crosses. */
     double RayNanoseconds{ 250.0 };
+    /** See RayNanoseconds. */
     double CellNanoseconds{ 2.0 };
     /** The sampler's tables, per voxel of the volume (drawn once for every pose). */
     double TableNanosecondsPerVoxel{ 1.4 };
@@ -96,6 +98,7 @@ public:
     double SplitNanosecondsPerVoxel{ 0.9 };
     /** To draw and splat one point; to splat a kept point at one more pose. */
     double PointNanoseconds{ 40.0 };
+    /** See PointNanoseconds. */
     double KeptPointNanoseconds{ 3.0 };
     /** Rays per pixel of the control variate's coarse image (2 replicates of an antithetic pair). */
     double CoarseRaysPerPixel{ 4.0 };
@@ -104,6 +107,7 @@ public:
     /** The control variate's error over plain points' at equal N: Scale2 (F / 2)^Exponent (0.149, 0.245, 0.32 of it at
      * F = 2, 8, 16 on the chest). */
     double ControlVariateErrorScale2{ 0.15 };
+    /** See ControlVariateErrorScale2. */
     double ControlVariateErrorExponent{ 0.37 };
   };
 
@@ -149,6 +153,7 @@ public:
   {
     return m_MeanLineIntegral;
   }
+  /** See GetMeanLineIntegral(). */
   double
   GetRange() const
   {
@@ -161,6 +166,7 @@ public:
   {
     m_Model = model;
   }
+  /** See SetCostModel(). */
   const CostModel &
   GetCostModel() const
   {

@@ -86,8 +86,8 @@ public:
     /** The relative error to reach (a fraction; 0: none), the most points it may take, and whether the estimator is
      * chosen for it (ChooseEstimator()). */
     double   TargetError{ 0.0 };
-    uint64_t MaximumNumberOfSamples{ 0 };
-    bool     ChooseEstimator{ false };
+    uint64_t MaximumNumberOfSamples{ 0 }; ///< see TargetError
+    bool     ChooseEstimator{ false };    ///< see TargetError
   };
 
   /** The largest residual mass M_r / M that `auto` accepts: above it the session renders without a control variate.
@@ -182,6 +182,7 @@ public:
   {
     return m_ChoiceSettled;
   }
+  /** Settles the choice (see IsChoiceSettled()). */
   void
   SettleChoice()
   {
