@@ -4,7 +4,8 @@
     /usr/bin/python3 benchmark/accuracy_target.py PBDRR OUT CASE=VOLUME [CASE=VOLUME ...] [--targets 2,1,0.5,0.25]
                                                   [--runs 3]
 
-A case's VOLUME is a CT file or DICOM folder; its view is the case's name's (VIEWS below). Per case: the reference, the
+A case's VOLUME is a CT file or DICOM folder; its view is the case's name's (VIEWS below); the case `batch` is a sweep
+of BATCH_VIEWS views in one process, scored at SCORED of them (its error: the largest of theirs). Per case: the reference, the
 exact pixel average with 16 x 16 rays per pixel (`--exact siddon --ss 16`); per target T (percent): `--accuracy T -v`
 (what it chose, its NRMSE against the reference, the median wall time of RUNS whole processes) and a search over
 settings: exact rays with 1, 2, 4 x 4 per pixel, and points with the control variate off, F 2 and F 8 at the points
@@ -25,7 +26,12 @@ VIEWS = {
     'chest': ['--gantry', '90', '--size', '256', '256', '--spacing', '2.4', '2.4'],
     'head': ['--gantry', '0', '--size', '512', '512', '--spacing', '0.8', '0.8'],
     'x2': ['--gantry', '90', '--size', '256', '256', '--spacing', '2.4', '2.4'],
+    'batch': ['--gantry', '90', '--size', '256', '256', '--spacing', '2.4', '2.4'],
 }
+# The batch case: the chest's view swept over BATCH_VIEWS views 1 degree apart in one process, kept points; its error
+# is the largest NRMSE of the SCORED views (every BATCH_VIEWS / SCORED-th), each against its own 16 x 16-ray image.
+BATCH_VIEWS = int(os.environ.get('BATCH_VIEWS', '360'))
+SCORED = int(os.environ.get('SCORED', '8'))
 
 
 def read_mha(path):
@@ -37,6 +43,25 @@ def read_mha(path):
 def nrmse(path, reference):
     image = read_mha(path)
     return float(np.sqrt(np.mean((image - reference) ** 2)) / (reference.max() - reference.min()))
+
+
+def batch_args(name, output):
+    """The sweep's flags and its output pattern, for the batch case; the single view's output otherwise."""
+    if name != 'batch':
+        return ['-o', output + '.mha']
+    os.makedirs(output, exist_ok=True)
+    return ['--angles', str(BATCH_VIEWS), '--angle-step', '1', '-o', os.path.join(output, 'v_%03d.mha')]
+
+
+def scored_views():
+    return [k * BATCH_VIEWS // SCORED for k in range(SCORED)]
+
+
+def error(name, output, references):
+    """NRMSE of a single view; the largest of the scored views' for the batch."""
+    if name != 'batch':
+        return nrmse(output + '.mha', references[0])
+    return max(nrmse(os.path.join(output, 'v_%03d.mha' % k), r) for k, r in zip(scored_views(), references))
 
 
 def run(pbdrr, args, runs):
@@ -74,28 +99,37 @@ def main():
     print('|---|---|---|---|---|---|---|---|---|---|')
     for name, volume in cases:
         view = VIEWS[name]
-        reference_path = os.path.join(out, name + '_ref16.mha')
-        if not os.path.exists(reference_path):
-            run(pbdrr, [volume, '-o', reference_path] + view + ['--exact', 'siddon', '--ss', '16', '-q'], 1)
-        reference = read_mha(reference_path)
+        references = []
+        for k in (scored_views() if name == 'batch' else [None]):
+            path = os.path.join(out, '%s_ref16%s.mha' % (name, '' if k is None else '_%03d' % k))
+            where = [] if k is None else ['--angles', str(BATCH_VIEWS), '--angle-step', '1', '--view-index', str(k)]
+            if not os.path.exists(path):
+                run(pbdrr, [volume, '-o', path] + view + where + ['--exact', 'siddon', '--ss', '16', '-q'], 1)
+            references.append(read_mha(path))
         exact = {}
-        for k in (1, 2, 4):
-            path = os.path.join(out, '%s_exact%d.mha' % (name, k))
-            seconds, _ = run(pbdrr, [volume, '-o', path] + view + ['--exact', 'siddon', '--ss', str(k), '-q'], runs)
-            exact[k] = (nrmse(path, reference), seconds)
+        rays = (1, 2) if name == 'batch' else (1, 2, 4)  # 4 x 4 rays over a sweep: minutes, never the fastest
+        for k in rays:
+            output = os.path.join(out, '%s_exact%d' % (name, k))
+            seconds, _ = run(pbdrr, [volume] + batch_args(name, output) + view +
+                             ['--exact', 'siddon', '--ss', str(k), '-q'], runs)
+            exact[k] = (error(name, output, references), seconds)
         for target in targets:
-            path = os.path.join(out, '%s_chosen.mha' % name)
-            seconds, stderr = run(pbdrr, [volume, '-o', path] + view + ['--accuracy', str(target), '-v'], runs)
+            output = os.path.join(out, '%s_chosen' % name)
+            seconds, stderr = run(pbdrr, [volume] + batch_args(name, output) + view +
+                                  ['--accuracy', str(target), '-v'], runs)
             chosen = re.search(r'accuracy: chose (.*), the least', stderr).group(1)
-            chosen_error = nrmse(path, reference)
-            settings = [('exact %d x %d rays' % (k, k), exact[k][0], exact[k][1]) for k in (1, 2, 4)]
+            chosen_error = error(name, output, references)
+            settings = [('exact %d x %d rays' % (k, k), exact[k][0], exact[k][1]) for k in rays]
             for factor in ('off', '2', '8'):
-                _, stderr = run(pbdrr, [volume, '-o', path] + view +
+                # The points that the view's (view 0's) own refinement to the target needed.
+                probe = os.path.join(out, '%s_probe' % name)
+                _, stderr = run(pbdrr, [volume, '-o', probe + '.mha'] + view +
                                 ['--samples', '1e5', '--control-variate', factor, '--accuracy', str(target), '-v'], 1)
                 points = int(re.search(r'with (\d+) points in all', stderr).group(1))
                 setting = ['--samples', str(points), '--control-variate', factor]
-                seconds_points, _ = run(pbdrr, [volume, '-o', path] + view + setting + ['-q'], runs)
-                settings.append(('points %d, control variate %s' % (points, factor), nrmse(path, reference),
+                output = os.path.join(out, '%s_points' % name)
+                seconds_points, _ = run(pbdrr, [volume] + batch_args(name, output) + view + setting + ['-q'], runs)
+                settings.append(('points %d, control variate %s' % (points, factor), error(name, output, references),
                                  seconds_points))
             reaching = [s for s in settings if s[1] <= target / 100.0]
             fastest = min(reaching, key=lambda s: s[2]) if reaching else ('none', float('nan'), float('nan'))
