@@ -256,7 +256,8 @@ MakeRenderer(const Options & options, const TVolume * volume)
     pointBased->SetComputeStandardError(ReadsStandardError(options));
     pointBased->SetTargetError(options.accuracyPercent ? *options.accuracyPercent / 100.0 : 0.0);
     // The estimator is chosen for the accuracy unless the points were (--samples, --control-variate).
-    pointBased->SetChooseEstimator(options.accuracyPercent && !options.samplesGiven && !options.controlVariateGiven);
+    pointBased->SetChooseEstimator(options.accuracyPercent && !IsGiven(options, "--samples") &&
+                                   !options.controlVariateGiven);
     renderer.Points = pointBased;
     renderer.Filter = pointBased.GetPointer();
   }

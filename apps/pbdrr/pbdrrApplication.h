@@ -107,7 +107,7 @@ template <typename TFilter>
 void
 PrintAccuracy(const TFilter & filter, double askedPercent)
 {
-  const itk::DRREstimatorChoice * choice = filter.GetChooseEstimator() ? filter.GetEstimatorChoice() : nullptr;
+  const itk::DRREstimatorChoice * choice = filter.GetEstimatorChoice(); // null unless the filter chose
   if (choice)
   {
     const auto & chosen = filter.GetChosenEstimator();

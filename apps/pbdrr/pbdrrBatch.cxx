@@ -31,6 +31,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -495,6 +496,62 @@ MakeBatchRenderer(const Options & options, const BatchPlan & plan, const TVolume
   return renderer;
 }
 
+/** Sets the filter to view k of the plan: its geometry (returned) and its pose. */
+template <typename TVolume>
+itk::DRRProjectionGeometry::Pointer
+SetPlanView(const Options & options, const BatchPlan & plan, uint64_t k, const Renderer<TVolume> & renderer)
+{
+  const TVolume *  volume = renderer.Filter->GetInput();
+  const ViewSpec & view = plan.Views[k];
+  auto             geometry = ViewGeometry(options, view, volume);
+  renderer.Filter->SetGeometry(geometry);
+  renderer.Filter->SetTransform(view.Pose ? MakePoseTransform(volume, *view.Pose)->GetInverseTransform() : nullptr);
+  return geometry;
+}
+
+/** Views of the plan whose kept points' estimates --accuracy checks before the batch: spread over it, view 0 first. */
+constexpr uint64_t AccuracyProbeViews = 8;
+
+/** --accuracy over kept points: the estimator is chosen at view 0. Chosen points are then fixed (F and N) and checked
+ * at AccuracyProbeViews views spread over the plan: above the target there, they are drawn again, as many as the
+ * largest estimate asks and a tenth more (views differ: a lateral view of a chest has more error than the AP one).
+ * Every view then still refines itself to the target with passes of new points if it must (a function of the seed and
+ * the view). The probes are the same views in every run and shard, so the images are too. Exact rays, chosen, trace
+ * every view alike. */
+template <typename TVolume>
+void
+FixAccuracy(const Options & options, const BatchPlan & plan, const Renderer<TVolume> & renderer)
+{
+  auto & points = *renderer.Points;
+  SetPlanView(options, plan, 0, renderer);
+  renderer.Filter->Update();
+  const itk::DRREstimatorChoice::Candidate chosen = points.GetChosenEstimator();
+  if (chosen.Kind != itk::DRREstimatorChoice::Estimator::Points)
+  {
+    return;
+  }
+  points.SetChooseEstimator(false);
+  points.SetControlVariateFactor(chosen.ControlVariateFactor);
+  points.SetNumberOfSamples(points.GetTotalNumberOfSamples()); // view 0's draw, raised there if it missed
+  const double target = points.GetTargetError();
+  const double wanted = target; // kept points alone reach the target at every probe, or are drawn again once
+  points.SetTargetError(0.0);   // the probes measure the kept points alone
+  double         largest = 0.0;
+  const uint64_t probes = std::min<uint64_t>(AccuracyProbeViews, plan.Views.size());
+  for (uint64_t p = 0; p < probes; ++p)
+  {
+    SetPlanView(options, plan, p * plan.Views.size() / probes, renderer);
+    renderer.Filter->Update();
+    largest = std::max(largest, points.GetEstimatedError());
+  }
+  if (largest > wanted)
+  {
+    points.SetNumberOfSamples(static_cast<uint64_t>(
+      std::ceil(1.1 * static_cast<double>(points.GetNumberOfSamples()) * (largest / wanted) * (largest / wanted))));
+  }
+  points.SetTargetError(target);
+}
+
 /** Fixes `auto`'s factor of the kept points at view 0, whichever views this run renders, so that the split, and so
  * every view's image, is the same in every run and shard. Streamed, the choice at view 0 is set (the volume is not
  * read here); otherwise the first render's. */
@@ -509,11 +566,7 @@ FixAutomaticFactor(const Options & options, const BatchPlan & plan, const Render
   const TVolume * volume = renderer.Filter->GetInput();
   if (renderer.Points->GetChooseEstimator())
   {
-    // --accuracy: the estimator, and the kept points with the number that view 0's estimate asked, are view 0's.
-    renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
-    const ViewSpec & view = plan.Views.front();
-    renderer.Filter->SetTransform(view.Pose ? MakePoseTransform(volume, *view.Pose)->GetInverseTransform() : nullptr);
-    renderer.Filter->Update();
+    FixAccuracy(options, plan, renderer);
     return;
   }
   if (options.controlVariate != PointFilterType<TVolume>::AutomaticControlVariateFactor)
@@ -606,11 +659,8 @@ RenderViews(const Options &           options,
   std::vector<std::string> notes;
   for (size_t s = 0; s < plan.Selected.size(); ++s)
   {
-    const uint64_t   k = plan.Selected[s];
-    const ViewSpec & view = plan.Views[k];
-    const auto       geometry = ViewGeometry(options, view, volume);
-    renderer.Filter->SetGeometry(geometry);
-    renderer.Filter->SetTransform(view.Pose ? MakePoseTransform(volume, *view.Pose)->GetInverseTransform() : nullptr);
+    const uint64_t k = plan.Selected[s];
+    const auto     geometry = SetPlanView(options, plan, k, renderer);
     if (renderer.Points && options.independentViews)
     {
       renderer.Points->SetSeed(ViewSeed(options.seed, k));
@@ -650,6 +700,12 @@ RenderViews(const Options &           options,
     if (options.accuracyPercent && renderer.Points)
     {
       PrintAccuracy(*renderer.Points, *options.accuracyPercent);
+      if (!renderer.Points->GetChooseEstimator())
+      {
+        std::cerr << "pbdrr: accuracy: kept points " << renderer.Points->GetNumberOfSamples()
+                  << " for every view, after the probes of " << std::min(AccuracyProbeViews, plan.Views.size())
+                  << " views; a view above the target adds passes of new points" << std::endl;
+      }
       std::cerr << "pbdrr: accuracy: the largest estimated error of the " << plan.Selected.size() << " views "
                 << 100.0 * largestError << "% (asked " << *options.accuracyPercent << "%)" << std::endl;
     }

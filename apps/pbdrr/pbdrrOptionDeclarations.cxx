@@ -238,11 +238,7 @@ OptionDeclarations()
     Option("--geometry-from").In(Geometry).Takes("FILE").Only(one, oneView).Sets(&Options::geometryFrom)
       .Help("the view and pixel grid of a CT localizer (DICOM), from its header: distances, position,\n"
             "orientation, pixel spacing (at the isocenter plane); instead of the flags above"),
-    Option("--samples").In(Rendering).Takes("N")
-      .Does([](Options & o, const Values & v) {
-        o.samples = ParseSampleCount(v[0]);
-        o.samplesGiven = true; // --accuracy then refines these points instead of choosing the estimator
-      })
+    Option("--samples").In(Rendering).Takes("N").Sets(&Options::samples, ParseSampleCount)
       .Default(std::to_string(itk::DRRPointRenderer::DefaultNumberOfSamples / 1000000) + "M")
       .Help("number of points: 1e7, 16M, 2.5G, 1000000 (default {default})"),
     Option("--accuracy").In(Rendering).Takes("PCT")

@@ -57,7 +57,6 @@ struct Options
   std::string geometryFrom;         // --geometry-from LOCALIZER.dcm: the localizer's own view and pixel grid
 
   uint64_t samples{ itk::DRRPointRenderer::DefaultNumberOfSamples };
-  bool     samplesGiven{ false }; // --samples on the command line: --accuracy then refines those points
   /** --accuracy PCT: the estimated relative error to reach, percent (PointBasedDRRImageFilter::SetTargetError()). */
   std::optional<double>                         accuracyPercent;
   std::string                                   sampler{ itk::DRRSamplerFactory::DefaultName };
