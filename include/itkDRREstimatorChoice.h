@@ -100,8 +100,11 @@ public:
     double PointNanoseconds{ 40.0 };
     /** See PointNanoseconds. */
     double KeptPointNanoseconds{ 3.0 };
-    /** Rays per pixel of the control variate's coarse image (2 replicates of an antithetic pair). */
+    /** Rays per pixel of the control variate's coarse image: 2 replicates of an antithetic pair at the first pose,
+     * whose standard error the choice is checked with; one replicate at each pose after it (a batch's views). */
     double CoarseRaysPerPixel{ 4.0 };
+    /** See CoarseRaysPerPixel. */
+    double CoarseRaysPerPixelAfterTheFirstPose{ 2.0 };
     /** The sampler's error over mean(L) sqrt(P / N) / range (the stratified sampler's, on the chest and the head). */
     double PointErrorScale{ 0.8 };
     /** The control variate's error over plain points' at equal N: Scale2 (F / 2)^Exponent (0.149, 0.245, 0.32 of it at

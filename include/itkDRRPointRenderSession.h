@@ -169,6 +169,10 @@ public:
                   const DRRAttenuationVolume & volume,
                   const DRRPointProjection &   projection,
                   MultiThreaderBase *          threader);
+  /** Makes the choice the fastest exact rays that reach the request's target, and returns it: chosen points whose
+   * estimate stopped falling with their number (a control variate's coarse image has an error of its own). */
+  const DRREstimatorChoice::Candidate &
+  FallBackToExactRays(const Request & request);
   /** Makes the kept points of the choice (points) more: a first pose whose estimate missed the target draws again. */
   void
   RaiseChosenSamples(uint64_t samples)

@@ -389,6 +389,10 @@ private:
   /** Renders one pass of samples points (the session's next) and adds it to the passes; returns their estimate. */
   DRRPassCombination::Estimate
   RenderPass(const DRRPointRenderSession::Request & request, uint64_t samples);
+  /** The chosen points stalled above the target: the exact rays that reach it (DRRPointRenderSession). */
+  DRRPassCombination::Estimate
+  RenderExactInstead(const DRRPointRenderSession::Request & request);
+
   /** Whether this render chooses its estimator (ChooseEstimator, a TargetError, the whole volume). */
   bool
   ChoosesTheEstimator() const;

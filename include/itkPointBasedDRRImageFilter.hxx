@@ -338,10 +338,22 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
     return estimate;
   }
   const bool drawAgain = chosenKeptPoints;
+  double     previous = 0.0; // the estimate before the last draw or pass, and its points
+  double     previousTotal = 0.0;
   for (double error = m_Session->GetEstimatedError(); error > m_TargetError; error = m_Session->GetEstimatedError())
   {
     const double total = static_cast<double>(m_Session->GetPasses().GetNumberOfSamples());
     const double wanted = std::ceil(1.1 * total * (error / m_TargetError) * (error / m_TargetError));
+    const double expected = previous * std::sqrt(previousTotal / total); // as 1 / sqrt(points)
+    if (this->ChoosesTheEstimator() && previousTotal > 0.0 && error - expected > 0.5 * (previous - expected))
+    {
+      // The last points lowered the estimate by less than half of what 1 / sqrt(N) predicts: what is left is not
+      // theirs to lower (the control variate's coarse image, its rays per pixel fixed). The exact rays that reach the
+      // target instead.
+      return this->RenderExactInstead(request);
+    }
+    previous = error;
+    previousTotal = total;
     if (!(wanted <= static_cast<double>(m_MaximumNumberOfSamples)))
     {
       itkExceptionMacro("the target error " << m_TargetError << " is not reached within MaximumNumberOfSamples "
@@ -358,6 +370,16 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
     estimate = this->RenderPass(request, static_cast<uint64_t>(wanted - total));
   }
   return estimate;
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRRPassCombination::Estimate
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderExactInstead(const DRRPointRenderSession::Request & request)
+{
+  const DRRAttenuationVolume *        volume = this->GetAttenuationVolume();
+  const DRREstimatorChoice::Candidate exact = m_Session->FallBackToExactRays(request);
+  return m_Session->RenderExact(
+    request, exact.RaysPerSide, *volume, this->MakeProjection(*volume), this->GetMultiThreader(), this);
 }
 
 template <typename TInputImage, typename TOutputImage>

@@ -191,7 +191,8 @@ DRREstimatorChoice::PointsSeconds(uint64_t samples, unsigned int factor, uint64_
                        static_cast<double>(poses - 1) * points * m_Model.KeptPointNanoseconds;
   if (factor > 0)
   {
-    const double coarseRays = static_cast<double>(poses) * m_Pixels * m_Model.CoarseRaysPerPixel;
+    const double coarseRays = m_Pixels * (m_Model.CoarseRaysPerPixel +
+                                          static_cast<double>(poses - 1) * m_Model.CoarseRaysPerPixelAfterTheFirstPose);
     nanoseconds += m_Voxels * m_Model.SplitNanosecondsPerVoxel +
                    coarseRays * (m_Model.RayNanoseconds + m_Model.CellNanoseconds * m_MeanCellsPerRay / factor);
   }

@@ -50,6 +50,33 @@ DRRPointRenderSession::ChooseEstimator(const Request &              request,
   return m_Chosen;
 }
 
+const DRREstimatorChoice::Candidate &
+DRRPointRenderSession::FallBackToExactRays(const Request & request)
+{
+  if (!m_Choice)
+  {
+    itkGenericExceptionMacro("DRRPointRenderSession: FallBackToExactRays() needs ChooseEstimator() first");
+  }
+  const uint64_t                        poses = request.ReusePoints ? request.ExpectedNumberOfPoses : 1;
+  const auto                            candidates = m_Choice->ListCandidates(request.TargetError, poses, false);
+  const DRREstimatorChoice::Candidate * fastest = nullptr;
+  for (const DRREstimatorChoice::Candidate & candidate : candidates)
+  {
+    if (candidate.Kind == DRREstimatorChoice::Estimator::ExactRays && candidate.Error <= request.TargetError &&
+        (!fastest || candidate.Seconds < fastest->Seconds))
+    {
+      fastest = &candidate;
+    }
+  }
+  if (!fastest)
+  {
+    itkGenericExceptionMacro("DRRPointRenderSession: the points' estimate stopped falling above the target error "
+                             << request.TargetError << ", and no exact rays are predicted to reach it");
+  }
+  m_Chosen = *fastest;
+  return m_Chosen;
+}
+
 DRRPassCombination::Estimate
 DRRPointRenderSession::RenderExact(const Request &              request,
                                    unsigned int                 raysPerSide,

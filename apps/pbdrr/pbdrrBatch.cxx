@@ -513,13 +513,13 @@ SetPlanView(const Options & options, const BatchPlan & plan, uint64_t k, const R
 constexpr uint64_t AccuracyProbeViews = 8;
 
 /** --accuracy over kept points: the estimator is chosen at view 0. Chosen points are then fixed (F and N) and checked
- * at AccuracyProbeViews views spread over the plan: above the target there, they are drawn again, as many as the
- * largest estimate asks and a tenth more (views differ: a lateral view of a chest has more error than the AP one).
- * Every view then still refines itself to the target with passes of new points if it must (a function of the seed and
- * the view). The probes are the same views in every run and shard, so the images are too. Exact rays, chosen, trace
- * every view alike. */
+ * at AccuracyProbeViews views spread over the plan (views differ: a lateral view of a chest has more error than the AP
+ * one): while the largest estimate there is above the target, they are drawn again, as many as it asks and a tenth
+ * more. The views then re-project them without a standard error (the coarse image traces one replicate of rays, half
+ * of them). The probes are the same views in every run and shard, so the images are too. Exact rays, chosen, trace
+ * every view alike. Returns the largest estimate of the probes (of the pilot of view 0 for exact rays). */
 template <typename TVolume>
-void
+double
 FixAccuracy(const Options & options, const BatchPlan & plan, const Renderer<TVolume> & renderer)
 {
   auto & points = *renderer.Points;
@@ -528,28 +528,34 @@ FixAccuracy(const Options & options, const BatchPlan & plan, const Renderer<TVol
   const itk::DRREstimatorChoice::Candidate chosen = points.GetChosenEstimator();
   if (chosen.Kind != itk::DRREstimatorChoice::Estimator::Points)
   {
-    return;
+    return points.GetEstimatedError();
   }
+  const double target = points.GetTargetError();
   points.SetChooseEstimator(false);
+  points.SetTargetError(0.0); // the probes measure the kept points alone
   points.SetControlVariateFactor(chosen.ControlVariateFactor);
   points.SetNumberOfSamples(points.GetTotalNumberOfSamples()); // view 0's draw, raised there if it missed
-  const double target = points.GetTargetError();
-  const double wanted = target; // kept points alone reach the target at every probe, or are drawn again once
-  points.SetTargetError(0.0);   // the probes measure the kept points alone
-  double         largest = 0.0;
   const uint64_t probes = std::min<uint64_t>(AccuracyProbeViews, plan.Views.size());
-  for (uint64_t p = 0; p < probes; ++p)
+  double         largest = 0.0;
+  for (unsigned int draw = 0; draw < 3; ++draw)
   {
-    SetPlanView(options, plan, p * plan.Views.size() / probes, renderer);
-    renderer.Filter->Update();
-    largest = std::max(largest, points.GetEstimatedError());
+    largest = 0.0;
+    for (uint64_t p = 0; p < probes; ++p)
+    {
+      SetPlanView(options, plan, p * plan.Views.size() / probes, renderer);
+      renderer.Filter->Update();
+      largest = std::max(largest, points.GetEstimatedError());
+    }
+    if (largest <= target)
+    {
+      break;
+    }
+    const double more = 1.1 * (largest / target) * (largest / target);
+    points.SetNumberOfSamples(
+      static_cast<uint64_t>(std::ceil(more * static_cast<double>(points.GetNumberOfSamples()))));
   }
-  if (largest > wanted)
-  {
-    points.SetNumberOfSamples(static_cast<uint64_t>(
-      std::ceil(1.1 * static_cast<double>(points.GetNumberOfSamples()) * (largest / wanted) * (largest / wanted))));
-  }
-  points.SetTargetError(target);
+  points.SetComputeStandardError(false);
+  return largest;
 }
 
 /** Fixes `auto`'s factor of the kept points at view 0, whichever views this run renders, so that the split, and so
@@ -564,11 +570,6 @@ FixAutomaticFactor(const Options & options, const BatchPlan & plan, const Render
     return;
   }
   const TVolume * volume = renderer.Filter->GetInput();
-  if (renderer.Points->GetChooseEstimator())
-  {
-    FixAccuracy(options, plan, renderer);
-    return;
-  }
   if (options.controlVariate != PointFilterType<TVolume>::AutomaticControlVariateFactor)
   {
     return;
@@ -647,14 +648,22 @@ RenderViews(const Options &           options,
             const Renderer<TVolume> & renderer)
 {
   renderer.Filter->SetInput(volume);
-  FixAutomaticFactor(options, plan, renderer);
+  // --accuracy over kept points: the estimate of the probes; each view's own otherwise (new points per view).
+  double largestError = 0.0;
+  if (renderer.Points && renderer.Points->GetChooseEstimator() && !options.independentViews)
+  {
+    largestError = FixAccuracy(options, plan, renderer);
+  }
+  else
+  {
+    FixAutomaticFactor(options, plan, renderer);
+  }
   if (!options.writeRtkGeometry.empty())
   {
     WriteRTKGeometry(options, plan, volume, options.writeRtkGeometry, "--write-rtk-geometry");
   }
   const double             renderStart = SteadySeconds();
   double                   firstViewSeconds = 0.0;
-  double                   largestError = 0.0; // of the views' estimates (--accuracy)
   VolumeType::Pointer      stack;
   std::vector<std::string> notes;
   for (size_t s = 0; s < plan.Selected.size(); ++s)
@@ -703,10 +712,13 @@ RenderViews(const Options &           options,
       if (!renderer.Points->GetChooseEstimator())
       {
         std::cerr << "pbdrr: accuracy: kept points " << renderer.Points->GetNumberOfSamples()
-                  << " for every view, after the probes of " << std::min(AccuracyProbeViews, plan.Views.size())
-                  << " views; a view above the target adds passes of new points" << std::endl;
+                  << " for every view, checked at " << std::min<uint64_t>(AccuracyProbeViews, plan.Views.size())
+                  << " views spread over the batch" << std::endl;
       }
-      std::cerr << "pbdrr: accuracy: the largest estimated error of the " << plan.Selected.size() << " views "
+      std::cerr << "pbdrr: accuracy: the largest estimated error of the "
+                << (renderer.Points->GetChooseEstimator() || options.independentViews
+                      ? std::to_string(plan.Selected.size()) + " views "
+                      : std::to_string(std::min<uint64_t>(AccuracyProbeViews, plan.Views.size())) + " probed views ")
                 << 100.0 * largestError << "% (asked " << *options.accuracyPercent << "%)" << std::endl;
     }
   }
