@@ -282,6 +282,13 @@ MakeRenderer(const Options & options, const TVolume * volume)
   {
     renderer.Filter->SetNumberOfWorkUnits(options.threads);
   }
+  if (options.accuracyIsDefault && renderer.Points && volume && renderer.Filter->GetNumberOfSlabs() > 1)
+  {
+    // A CT over the memory budget streams points (exact rays need it whole): the default's 10^7 points, rendered once
+    // rather than refined, each pass of which would read the CT again.
+    renderer.Points->SetTargetError(0.0);
+    renderer.Points->SetChooseEstimator(false);
+  }
   return renderer;
 }
 
@@ -577,9 +584,14 @@ RenderView(const Options &                               options,
                 << itk::PointBasedDRREnums::GetName(options.splat) << ", attenuation mass M "
                 << pointBased->GetTotalMass() << " mm^2, points on the detector " << pointBased->GetPointsOnDetector()
                 << std::endl;
-      if (options.accuracyPercent)
+      if (options.accuracyPercent && pointBased->GetTargetError() > 0.0)
       {
         PrintAccuracy(*pointBased, *options.accuracyPercent);
+        if (options.accuracyIsDefault)
+        {
+          std::cerr << "pbdrr: accuracy: " << *options.accuracyPercent
+                    << "% is pbdrr's default (--accuracy, --samples or --exact set the effort by hand)" << std::endl;
+        }
       }
       if (const itk::DRRControlVariate * split = pointBased->GetControlVariate())
       {

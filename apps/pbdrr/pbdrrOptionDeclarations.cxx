@@ -240,12 +240,19 @@ OptionDeclarations()
             "orientation, pixel spacing (at the isocenter plane); instead of the flags above"),
     Option("--samples").In(Rendering).Takes("N").Sets(&Options::samples, ParseSampleCount)
       .Default(std::to_string(itk::DRRPointRenderer::DefaultNumberOfSamples / 1000000) + "M")
-      .Help("number of points: 1e7, 16M, 2.5G, 1000000 (default {default})"),
+      .Help("number of points: 1e7, 16M, 2.5G, 1000000 (default {default} where an option sets the\n"
+            "estimator; with none, pbdrr's default is --accuracy's)"),
     Option("--accuracy").In(Rendering).Takes("PCT")
       .Only(one | batch, "--accuracy renders the views of one volume to a stated error (a manifest's volumes "
                          "are rendered as set)")
       .Sets(&Options::accuracyPercent, Percent)
-      .Help("the error to reach, percent (RMS error over the image's range): the estimator predicted\n"
+      .Default([] {
+        std::ostringstream text;
+        text << DefaultAccuracyPercent;
+        return text.str();
+      }())
+      .Help("the error to reach, percent (RMS error over the image's range; default {default} when\n"
+            "no rendering option but --seed and --threads is given): the estimator predicted\n"
             "to get there with the least work, exact rays (k x k per pixel), points or a control\n"
             "variate, its points refined until their estimate is at most PCT; with --samples or\n"
             "--control-variate, those points refined (-v lists the candidates and says); a batch\n"

@@ -221,7 +221,31 @@ ParseCommandLine(const std::vector<std::string> & arguments)
   {
     throw UsageError("--control-variate applies to point sampling, not to --exact");
   }
+  if (!options.accuracyPercent && DefaultAccuracyApplies(options))
+  {
+    options.accuracyPercent = DefaultAccuracyPercent;
+    options.accuracyIsDefault = true;
+  }
   return options;
+}
+
+bool
+DefaultAccuracyApplies(const Options & options)
+{
+  if (!options.manifest.empty() || !options.standardErrorOutput.empty() || !options.labelChannelsOutput.empty() ||
+      !options.spectrumFile.empty() || options.kvp)
+  {
+    return false;
+  }
+  for (const OptionDeclaration & declaration : OptionDeclarations())
+  {
+    if (declaration.Group == OptionGroup::Rendering && declaration.Name != "--seed" &&
+        declaration.Name != "--threads" && IsGiven(options, declaration.Name))
+    {
+      return false;
+    }
+  }
+  return true;
 }
 
 std::string

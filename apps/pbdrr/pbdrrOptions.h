@@ -58,8 +58,9 @@ struct Options
 
   uint64_t samples{ itk::DRRPointRenderer::DefaultNumberOfSamples };
   /** --accuracy PCT: the estimated relative error to reach, percent (PointBasedDRRImageFilter::SetTargetError()). */
-  std::optional<double>                         accuracyPercent;
-  std::string                                   sampler{ itk::DRRSamplerFactory::DefaultName };
+  std::optional<double> accuracyPercent;
+  bool        accuracyIsDefault{ false }; // accuracyPercent is pbdrr's default (DefaultAccuracyPercent), not given
+  std::string sampler{ itk::DRRSamplerFactory::DefaultName };
   itk::PointBasedDRREnums::ReconstructionKernel kernel{ itk::PointBasedDRREnums::ReconstructionKernel::Box };
   itk::PointBasedDRREnums::Splat                splat{ itk::PointBasedDRREnums::Splat::Nearest };
   uint64_t                                      seed{ 0 };
@@ -163,6 +164,15 @@ ParseCommandLine(const std::vector<std::string> & arguments);
 /** Number of samples: a whole number, scientific (1e7) or with a K/M/G suffix (16M = 16 000 000), 1 .. 2^40. */
 uint64_t
 ParseSampleCount(const std::string & text);
+
+/** pbdrr's default: a stated accuracy, percent (--accuracy), where nothing sets the estimator by hand. */
+constexpr double DefaultAccuracyPercent = 0.5;
+
+/** Whether pbdrr's default accuracy (DefaultAccuracyPercent) renders these options: a single view or a batch whose
+ * estimator no option sets by hand (none of the rendering group but --seed and --threads), whose output is one
+ * line-integral image per view (no --stderr, --label-channels or spectrum: those are the points' own). */
+bool
+DefaultAccuracyApplies(const Options & options);
 
 /** True if the options ask for a batch of views (--angles, --views, --rtk-geometry, --manifest). */
 bool

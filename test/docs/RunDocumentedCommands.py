@@ -88,6 +88,8 @@ SKIPS = [
     ("docs/performance.md", r"^(before|after): ", "the output of pbdrr -v the doc shows, not a command"),
     ("docs/performance.md", r"bash scripts/benchmark\.sh$", "benchmark runs of minutes to hours on the real chest CT"),
     ("docs/performance.md", r"^bash benchmark/scale\.sh", "renders the real chest and its 2x copy (gigabytes)"),
+    ("docs/performance.md", r"^X2=chest_x2\.mha bash benchmark/accuracy_target\.sh ",
+     "renders the real chest, the head, the 2x chest and a 360-view sweep against 16 x 16-ray references (an hour)"),
     ("docs/performance.md", r"^/usr/bin/python3 scripts/make_large_ct\.py ",
      "reads the real chest and writes its copy (144 MB at factor 1); the commands after it read the phantom instead"),
     ("docs/performance.md", r"^/usr/bin/python3 benchmark/plot_scale\.py .*\.\./scale_data/",
