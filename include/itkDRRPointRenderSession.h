@@ -269,6 +269,13 @@ public:
   {
     return m_EstimatedError;
   }
+  /** The relative error of the last pass's coarse image alone (its rays', which no number of points lowers), in the
+   * measure of GetEstimatedError(); 0 after a pass without a control variate. */
+  double
+  GetCoarseImageError() const
+  {
+    return m_CoarseImageError;
+  }
   /** Attenuation mass of the volume in the room of the last pass, mm^2. */
   double
   GetTotalMass() const
@@ -361,6 +368,7 @@ private:
   DRRPassCombination m_Passes;
   double             m_TotalMass{ 0.0 };
   double             m_EstimatedError{ 0.0 };
+  mutable double     m_CoarseImageError{ 0.0 }; // of the last pass's coarse image (AddCoarseImage())
   TimeStamp          m_PassesTime;
   uint64_t           m_RefinementSamples{ 0 };
   // The estimator chosen for a target: the pilot, its choice, and what it was made for (kept points keep it).

@@ -130,6 +130,19 @@ public:
   itkBooleanMacro(ChooseEstimator);
   ///@}
 
+  /** Makes the choice of estimator for the current view and TargetError now (ChooseEstimator's pilot), without a
+   * render, and returns it: a batch of kept points probes its views with fewer points before it draws them all. */
+  const DRREstimatorChoice::Candidate &
+  MakeEstimatorChoice();
+
+  /** Makes the last choice (MakeEstimatorChoice(), or a render's) the fastest exact rays that reach TargetError, and
+   * returns it: for points that stalled above the target (their estimate no longer falls with their number). */
+  const DRREstimatorChoice::Candidate &
+  FallBackToExactRays()
+  {
+    return m_Session->FallBackToExactRays(this->MakeRequest());
+  }
+
   /** The pilot of the last choice of estimator (ChooseEstimator), with the candidates' predictions; null before one. */
   const DRREstimatorChoice *
   GetEstimatorChoice() const

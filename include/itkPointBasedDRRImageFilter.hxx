@@ -345,21 +345,31 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
     const double total = static_cast<double>(m_Session->GetPasses().GetNumberOfSamples());
     const double wanted = std::ceil(1.1 * total * (error / m_TargetError) * (error / m_TargetError));
     const double expected = previous * std::sqrt(previousTotal / total); // as 1 / sqrt(points)
-    if (this->ChoosesTheEstimator() && previousTotal > 0.0 && error - expected > 0.5 * (previous - expected))
+    if (this->ChoosesTheEstimator() && previousTotal > 0.0 && total >= 1.5 * previousTotal &&
+        error - expected > 0.5 * (previous - expected))
     {
       // The last points lowered the estimate by less than half of what 1 / sqrt(N) predicts: what is left is not
       // theirs to lower (the control variate's coarse image, its rays per pixel fixed). The exact rays that reach the
       // target instead.
       return this->RenderExactInstead(request);
     }
-    previous = error;
-    previousTotal = total;
+    if (previousTotal == 0.0 || total >= 1.5 * previousTotal)
+    {
+      previous = error; // judged over half as many points again at least: the estimates of few are noisy
+      previousTotal = total;
+    }
     if (!(wanted <= static_cast<double>(m_MaximumNumberOfSamples)))
     {
       itkExceptionMacro("the target error " << m_TargetError << " is not reached within MaximumNumberOfSamples "
                                             << m_MaximumNumberOfSamples << ": the estimated error is " << error
                                             << " at " << total << " points, and about " << wanted
                                             << " would be needed");
+    }
+    if (drawAgain && m_Session->GetCoarseImageError() > 0.8 * m_TargetError)
+    {
+      // The coarse image's rays alone are near the target: kept points would need many times more (their part must
+      // fall to sqrt(t^2 - c^2)). The exact rays that reach the target instead.
+      return this->RenderExactInstead(request);
     }
     if (drawAgain)
     {
@@ -380,6 +390,20 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RenderExactInstead(const DR
   const DRREstimatorChoice::Candidate exact = m_Session->FallBackToExactRays(request);
   return m_Session->RenderExact(
     request, exact.RaysPerSide, *volume, this->MakeProjection(*volume), this->GetMultiThreader(), this);
+}
+
+template <typename TInputImage, typename TOutputImage>
+const DRREstimatorChoice::Candidate &
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeEstimatorChoice()
+{
+  this->VerifySettings();
+  if (!this->ChoosesTheEstimator())
+  {
+    itkExceptionMacro("MakeEstimatorChoice() needs ChooseEstimator, a TargetError and the whole volume");
+  }
+  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+  return m_Session->ChooseEstimator(
+    this->MakeRequest(), *volume, this->MakeProjection(*volume), this->GetMultiThreader());
 }
 
 template <typename TInputImage, typename TOutputImage>

@@ -20,6 +20,7 @@
 #include "itkDRRStratifiedSampler.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace itk
@@ -229,6 +230,10 @@ DRRPointRenderSession::AddCoarseImage(const DRRControlVariate &          control
                                       ProcessObject *                    caller,
                                       DRRPointRenderer::Result &         result) const
 {
+  std::vector<double> pointsVariance(result.StandardError.size());
+  std::transform(result.StandardError.begin(), result.StandardError.end(), pointsVariance.begin(), [](double se) {
+    return se * se;
+  });
   controlVariate.AddCoarseImage(projection,
                                 settings.Splat,
                                 request.ControlVariateRaysPerSide,
@@ -237,6 +242,17 @@ DRRPointRenderSession::AddCoarseImage(const DRRControlVariate &          control
                                 caller,
                                 result,
                                 request.ComputeStandardError ? 2u : 1u);
+  // The coarse image's own part of the relative error (DRRPassCombination::ComputeRelativeError()'s measure): what no
+  // number of points lowers.
+  double coarseVariance = 0.0;
+  for (size_t p = 0; p < pointsVariance.size(); ++p)
+  {
+    coarseVariance += std::max(0.0, result.StandardError[p] * result.StandardError[p] - pointsVariance[p]);
+  }
+  const auto   range = std::minmax_element(result.LineIntegral.begin(), result.LineIntegral.end());
+  const double width = range.first != result.LineIntegral.end() ? *range.second - *range.first : 0.0;
+  m_CoarseImageError =
+    width > 0.0 ? std::sqrt(coarseVariance / static_cast<double>(pointsVariance.size())) / width : 0.0;
 }
 
 DRRPointRenderer::Result
@@ -247,6 +263,7 @@ DRRPointRenderSession::Render(const Request &              request,
                               MultiThreaderBase *          threader,
                               ProcessObject *              caller)
 {
+  m_CoarseImageError = 0.0; // until this pass's coarse image, if it has one
   const unsigned int pass = m_Passes.GetNumberOfPasses();
   if (request.ReusePoints && pass == 0)
   {

@@ -717,15 +717,16 @@ TEST(PointBasedDRRChooseEstimator, ReachesTheTargetAgainstTheExactImageAtEverySe
   EXPECT_LE(kept->GetEstimatedError(), target * (1.0 + zBound * spread)) << "the next pose";
 }
 
-// A control variate chosen for kept points whose coarse image alone is above the target (the phantom's 3 mm voxels
-// under 2.7 mm pixels: its few jittered rays per pixel have an error of their own, which no number of points lowers)
-// stalls: the filter renders the exact rays that reach the target instead, and keeps them for the next poses.
+// A control variate chosen for kept points whose coarse image alone is near the target (the phantom's 3 mm voxels
+// under 2.7 mm pixels: its few jittered rays per pixel have an error of their own, about 0.45% here, which no number
+// of points lowers): the filter renders the exact rays that reach the target instead, and keeps them for the next
+// poses.
 TEST(PointBasedDRRChooseEstimator, FallsBackToExactRaysWhenThePointsStall)
 {
   const auto       volume = MakeAsymmetricPhantom();
   const auto       geometry = ObliquePhantomGeometry();
   const auto       reference = ExactImage(volume, geometry, 16);
-  constexpr double target = 0.01;
+  constexpr double target = 0.005;
   auto             kept = MakeChoosingFilter(volume, geometry, target);
   kept->ReusePointsOn();
   kept->SetExpectedNumberOfPoses(1000000);

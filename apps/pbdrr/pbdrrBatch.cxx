@@ -512,32 +512,34 @@ SetPlanView(const Options & options, const BatchPlan & plan, uint64_t k, const R
 /** Views of the plan whose kept points' estimates --accuracy checks before the batch: spread over it, view 0 first. */
 constexpr uint64_t AccuracyProbeViews = 8;
 
-/** --accuracy over kept points: the estimator is chosen at view 0. Chosen points are then fixed (F and N) and checked
- * at AccuracyProbeViews views spread over the plan (views differ: a lateral view of a chest has more error than the AP
- * one): while the largest estimate there is above the target, they are drawn again, as many as it asks and a tenth
- * more. The views then re-project them without a standard error (the coarse image traces one replicate of rays, half
+/** --accuracy over kept points: the estimator is chosen at view 0 (its pilot). Chosen points are fixed (F) and probed
+ * first: a quarter of the points predicted, drawn once and re-projected at AccuracyProbeViews views spread over the
+ * plan (views differ: a lateral view of a chest has more error than the AP one); then all of them are drawn, as many as
+ * the largest estimate of the probes asks and a tenth more, and checked again at the probes (drawn again if they still
+ * miss). The views then re-project them without a standard error (the coarse image traces one replicate of rays, half
  * of them). The probes are the same views in every run and shard, so the images are too. Exact rays, chosen, trace
- * every view alike. Returns the largest estimate of the probes (of the pilot of view 0 for exact rays). */
+ * every view alike. Returns the largest estimate of the probes (the pilot's for exact rays). */
 template <typename TVolume>
 double
 FixAccuracy(const Options & options, const BatchPlan & plan, const Renderer<TVolume> & renderer)
 {
   auto & points = *renderer.Points;
   SetPlanView(options, plan, 0, renderer);
-  renderer.Filter->Update();
-  const itk::DRREstimatorChoice::Candidate chosen = points.GetChosenEstimator();
+  const itk::DRREstimatorChoice::Candidate chosen = points.MakeEstimatorChoice();
   if (chosen.Kind != itk::DRREstimatorChoice::Estimator::Points)
   {
-    return points.GetEstimatedError();
+    return chosen.Error;
   }
   const double target = points.GetTargetError();
   points.SetChooseEstimator(false);
   points.SetTargetError(0.0); // the probes measure the kept points alone
   points.SetControlVariateFactor(chosen.ControlVariateFactor);
-  points.SetNumberOfSamples(points.GetTotalNumberOfSamples()); // view 0's draw, raised there if it missed
+  points.SetNumberOfSamples(std::max<uint64_t>(chosen.NumberOfSamples / 4, 4096));
   const uint64_t probes = std::min<uint64_t>(AccuracyProbeViews, plan.Views.size());
   double         largest = 0.0;
-  for (unsigned int draw = 0; draw < 3; ++draw)
+  double         previous = 0.0; // the largest estimate of the draw before, and its points
+  double         previousPoints = 0.0;
+  for (unsigned int draw = 0; draw < 4; ++draw)
   {
     largest = 0.0;
     for (uint64_t p = 0; p < probes; ++p)
@@ -546,10 +548,25 @@ FixAccuracy(const Options & options, const BatchPlan & plan, const Renderer<TVol
       renderer.Filter->Update();
       largest = std::max(largest, points.GetEstimatedError());
     }
-    if (largest <= target)
+    if (largest <= target && draw > 0)
     {
       break;
     }
+    const double drawn = static_cast<double>(points.GetNumberOfSamples());
+    const double expected = previous * std::sqrt(previousPoints / drawn); // as 1 / sqrt(points)
+    if (draw > 0 && drawn >= 2.0 * previousPoints && largest - expected > 0.5 * (previous - expected))
+    {
+      // Stalled, as the filter says of its own points: the control variate's coarse image. The exact rays instead.
+      points.SetTargetError(target);
+      points.SetChooseEstimator(true);
+      return points.FallBackToExactRays().Error;
+    }
+    if (draw == 0 || drawn >= 2.0 * previousPoints)
+    {
+      previous = largest; // judged over a doubling at least: the estimates of few points are noisy
+      previousPoints = drawn;
+    }
+    // The probe draw (a quarter) sets the number; a draw of all that still misses is raised the same way.
     const double more = 1.1 * (largest / target) * (largest / target);
     points.SetNumberOfSamples(
       static_cast<uint64_t>(std::ceil(more * static_cast<double>(points.GetNumberOfSamples()))));
