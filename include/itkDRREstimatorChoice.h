@@ -45,13 +45,14 @@ namespace itk
  *   whose points are drawn in proportion to mu is L_p M_view / (N a) (a: a pixel's area at the points), and the mass
  *   in the view M_view is the sum of L_p a, so that its mean over the P pixels is mean(L)^2 P / N; s is the sampler's
  *   ratio to it (CostModel::PointErrorScale); a control variate of factor F multiplies it by about M_r / M
- *   (CostModel::ControlVariateErrorScale);
+ *   (CostModel::ControlVariateErrorScale2);
  * - the rays' work: the cells each pilot ray crosses.
  *
  * The cost of each estimator is CPU work predicted from the counts (pixels, rays, cells, voxels, points, poses) and
- * the constants of CostModel, measured on this project's 2-core machine (benchmark/accuracy_target.sh calibrate
- * measures them again): never a clock, so the choice, and the image, are the same on any number of threads and on
- * every run. Choose() returns the fastest candidate whose predicted error is at most the target.
+ * the constants of CostModel, measured on this project's 2-core machine (docs/performance.md, "Ask for an
+ * accuracy"; SetCostModel() takes another machine's): never a clock, so the choice, and the image, are the same on any
+ * number of threads and on every run. Choose() returns the fastest candidate whose predicted error is at most the
+ * target.
  *
  * \sa PointBasedDRRImageFilter::SetChooseEstimator(), DRRExactRayIntegrator
  * \ingroup PointBasedDRR

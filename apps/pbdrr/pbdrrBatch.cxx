@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "pbdrrBatch.h"
+#include "pbdrrBatchAccuracy.h"
 #include "pbdrrLabels.h"
 #include "pbdrrManifest.h"
 #include "pbdrrApplication.h"
@@ -31,7 +32,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -509,72 +509,6 @@ SetPlanView(const Options & options, const BatchPlan & plan, uint64_t k, const R
   return geometry;
 }
 
-/** Views of the plan whose kept points' estimates --accuracy checks before the batch: spread over it, view 0 first. */
-constexpr uint64_t AccuracyProbeViews = 8;
-
-/** --accuracy over kept points: the estimator is chosen at view 0 (its pilot). Chosen points are fixed (F) and probed
- * first: a quarter of the points predicted, drawn once and re-projected at AccuracyProbeViews views spread over the
- * plan (views differ: a lateral view of a chest has more error than the AP one); then all of them are drawn, as many as
- * the largest estimate of the probes asks and a tenth more, and checked again at the probes (drawn again if they still
- * miss). The views then re-project them without a standard error (the coarse image traces one replicate of rays, half
- * of them). The probes are the same views in every run and shard, so the images are too. Exact rays, chosen, trace
- * every view alike. Returns the largest estimate of the probes (the pilot's for exact rays). */
-template <typename TVolume>
-double
-FixAccuracy(const Options & options, const BatchPlan & plan, const Renderer<TVolume> & renderer)
-{
-  auto & points = *renderer.Points;
-  SetPlanView(options, plan, 0, renderer);
-  const itk::DRREstimatorChoice::Candidate chosen = points.MakeEstimatorChoice();
-  if (chosen.Kind != itk::DRREstimatorChoice::Estimator::Points)
-  {
-    return chosen.Error;
-  }
-  const double target = points.GetTargetError();
-  points.SetChooseEstimator(false);
-  points.SetTargetError(0.0); // the probes measure the kept points alone
-  points.SetControlVariateFactor(chosen.ControlVariateFactor);
-  points.SetNumberOfSamples(std::max<uint64_t>(chosen.NumberOfSamples / 4, 4096));
-  const uint64_t probes = std::min<uint64_t>(AccuracyProbeViews, plan.Views.size());
-  double         largest = 0.0;
-  double         previous = 0.0; // the largest estimate of the draw before, and its points
-  double         previousPoints = 0.0;
-  for (unsigned int draw = 0; draw < 4; ++draw)
-  {
-    largest = 0.0;
-    for (uint64_t p = 0; p < probes; ++p)
-    {
-      SetPlanView(options, plan, p * plan.Views.size() / probes, renderer);
-      renderer.Filter->Update();
-      largest = std::max(largest, points.GetEstimatedError());
-    }
-    if (largest <= target && draw > 0)
-    {
-      break;
-    }
-    const double drawn = static_cast<double>(points.GetNumberOfSamples());
-    const double expected = previous * std::sqrt(previousPoints / drawn); // as 1 / sqrt(points)
-    if (draw > 0 && drawn >= 2.0 * previousPoints && largest - expected > 0.5 * (previous - expected))
-    {
-      // Stalled, as the filter says of its own points: the control variate's coarse image. The exact rays instead.
-      points.SetTargetError(target);
-      points.SetChooseEstimator(true);
-      return points.FallBackToExactRays().Error;
-    }
-    if (draw == 0 || drawn >= 2.0 * previousPoints)
-    {
-      previous = largest; // judged over a doubling at least: the estimates of few points are noisy
-      previousPoints = drawn;
-    }
-    // The probe draw (a quarter) sets the number; a draw of all that still misses is raised the same way.
-    const double more = 1.1 * (largest / target) * (largest / target);
-    points.SetNumberOfSamples(
-      static_cast<uint64_t>(std::ceil(more * static_cast<double>(points.GetNumberOfSamples()))));
-  }
-  points.SetComputeStandardError(false);
-  return largest;
-}
-
 /** Fixes `auto`'s factor of the kept points at view 0, whichever views this run renders, so that the split, and so
  * every view's image, is the same in every run and shard. Streamed, the choice at view 0 is set (the volume is not
  * read here); otherwise the first render's. */
@@ -582,15 +516,12 @@ template <typename TVolume>
 void
 FixAutomaticFactor(const Options & options, const BatchPlan & plan, const Renderer<TVolume> & renderer)
 {
-  if (!renderer.Points || options.independentViews)
+  if (!renderer.Points || options.independentViews ||
+      options.controlVariate != PointFilterType<TVolume>::AutomaticControlVariateFactor)
   {
     return;
   }
   const TVolume * volume = renderer.Filter->GetInput();
-  if (options.controlVariate != PointFilterType<TVolume>::AutomaticControlVariateFactor)
-  {
-    return;
-  }
   renderer.Filter->SetGeometry(ViewGeometry(options, plan.Views.front(), volume));
   if (renderer.Filter->GetNumberOfSlabs() > 1)
   {
@@ -669,7 +600,8 @@ RenderViews(const Options &           options,
   double largestError = 0.0;
   if (renderer.Points && renderer.Points->GetChooseEstimator() && !options.independentViews)
   {
-    largestError = FixAccuracy(options, plan, renderer);
+    largestError =
+      FixAccuracy(renderer, plan.Views.size(), [&](uint64_t k) { SetPlanView(options, plan, k, renderer); });
   }
   else
   {
@@ -725,18 +657,7 @@ RenderViews(const Options &           options,
       loadSeconds, firstViewSeconds, SteadySeconds() - renderStart - firstViewSeconds, plan.Selected.size(), renderer);
     if (options.accuracyPercent && renderer.Points)
     {
-      PrintAccuracy(*renderer.Points, *options.accuracyPercent);
-      if (!renderer.Points->GetChooseEstimator())
-      {
-        std::cerr << "pbdrr: accuracy: kept points " << renderer.Points->GetNumberOfSamples()
-                  << " for every view, checked at " << std::min<uint64_t>(AccuracyProbeViews, plan.Views.size())
-                  << " views spread over the batch" << std::endl;
-      }
-      std::cerr << "pbdrr: accuracy: the largest estimated error of the "
-                << (renderer.Points->GetChooseEstimator() || options.independentViews
-                      ? std::to_string(plan.Selected.size()) + " views "
-                      : std::to_string(std::min<uint64_t>(AccuracyProbeViews, plan.Views.size())) + " probed views ")
-                << 100.0 * largestError << "% (asked " << *options.accuracyPercent << "%)" << std::endl;
+      PrintBatchAccuracy(options, *renderer.Points, plan.Selected.size(), plan.Views.size(), largestError);
     }
   }
 }
