@@ -181,6 +181,12 @@ public:
     {
       return m_Keys ? m_Table[static_cast<uint16_t>(m_Keys[v] ^ m_Flip)] : m_Mu[v];
     }
+    /** Bytes read per voxel: a key's, or a float's. */
+    unsigned int
+    GetBytesPerVoxel() const
+    {
+      return m_Keys ? sizeof(uint16_t) : sizeof(float);
+    }
 
   private:
     friend class DRRAttenuationVolume;

@@ -46,7 +46,8 @@ namespace itk
  *   in the view M_view is the sum of L_p a, so that its mean over the P pixels is mean(L)^2 P / N; s is the sampler's
  *   ratio to it (CostModel::PointErrorScale); a control variate of factor F multiplies it by about M_r / M
  *   (CostModel::ControlVariateErrorScale2);
- * - the rays' work: the cells each pilot ray crosses.
+ * - the rays' work: the cells each pilot ray crosses, and its reads of the volume that miss the cache (the lines the
+ *   ray of the pixel before did not read, off the stride of the reads before: a prefetcher follows a stride).
  *
  * The cost of each estimator is CPU work predicted from the counts (pixels, rays, cells, voxels, points, poses) and
  * the constants of CostModel, measured on this project's 2-core machine (docs/performance.md, "Ask for an
@@ -85,14 +86,20 @@ public:
   };
 
   /** CPU nanoseconds of each part of the work, and the points' error constants: measured on the LIDC chest (512 x 512
-   * x 275) at 256 x 256 pixels on this project's 2-core Xeon (pbdrr -v's stage times; the exact rays at 1, 2 and 8 x 8
-   * per pixel, plain points and control variates of F 2 to 16 at 10^6 and 10^7 points). */
+   * x 275) at 256 x 256 pixels on this project's 2-core machine (pbdrr -v's stage times on 2 threads; the exact rays at
+   * 1, 2 and 8 x 8 per pixel, and at one per pixel from gantry 0 to 90 degrees in steps of 15, fitted to within 17%;
+   * plain points and control variates of F 2 to 16 at 10^6 and 10^7 points). */
   struct CostModel
   {
-    /** An exact ray: a fixed part (the ray's setup and clipping) and a part per cell it crosses. */
+    /** An exact ray: a fixed part (the ray's setup and clipping), a part per cell it crosses, and a part per read the
+     * cache cannot serve: a cache line the ray before it in its tile did not read, off the stride of the ray's reads
+     * before (DRRExactRayIntegrator::ListReadCacheLines()). A lateral ray of a CT reads its rows along x, the
+     * fastest axis, and its neighbours read other rows; an AP ray's neighbours read its lines. */
     double RayNanoseconds{ 250.0 };
     /** See RayNanoseconds. */
-    double CellNanoseconds{ 2.0 };
+    double CellNanoseconds{ 2.3 };
+    /** See RayNanoseconds. */
+    double UnforeseenMissNanoseconds{ 38.0 };
     /** The sampler's tables, per voxel of the volume (drawn once for every pose). */
     double TableNanosecondsPerVoxel{ 1.4 };
     /** The control variate's split (block means and residual), per voxel. */
@@ -151,18 +158,39 @@ public:
   double
   GetPointsError(uint64_t samples, unsigned int factor) const;
 
-  /** The pilot's mean line integral and range (max - min over the pilot pixels at 8 x 8 rays), dimensionless. */
+  /** Adds the views other measured (Measure(), of the same detector and volume): the choice is then for poses renders
+   * spread over all the views, a batch's. The errors are the largest of the views (each view must reach the target);
+   * the work per ray is their mean (the views are rendered in turn). */
+  void
+  AddViews(const DRREstimatorChoice & other);
+  /** The views measured: 1 after Measure(), more after AddViews(). */
+  unsigned int
+  GetNumberOfViews() const
+  {
+    return static_cast<unsigned int>(m_Views.size());
+  }
+
+  /** The pilot's mean line integral and range (max - min over the pilot pixels at 8 x 8 rays), dimensionless, of the
+   * view measured first. */
   double
   GetMeanLineIntegral() const
   {
-    return m_MeanLineIntegral;
+    return m_Views.empty() ? 0.0 : m_Views.front().MeanLineIntegral;
   }
   /** See GetMeanLineIntegral(). */
   double
   GetRange() const
   {
-    return m_Range;
+    return m_Views.empty() ? 0.0 : m_Views.front().Range;
   }
+
+  /** Cells an exact ray crosses, and its reads of the volume that miss the cache (CostModel::RayNanoseconds), the
+   * means over the pilot's rays and views. */
+  double
+  GetMeanCellsPerRay() const;
+  /** See GetMeanCellsPerRay(). */
+  double
+  GetMeanUnforeseenMissesPerRay() const;
 
   /** The constants of the costs and errors (the defaults of CostModel unless set). */
   void
@@ -178,18 +206,31 @@ public:
   }
 
 private:
+  /** What the pilot of one view measured. */
+  struct ViewPilot
+  {
+    double MeanLineIntegral{ 0.0 };
+    double Range{ 0.0 };
+    double ExactRms[3]{ 0.0, 0.0, 0.0 }; // RMS(v_k - v_8) for k = 1, 2, 4
+    double MeanCellsPerRay{ 0.0 };
+    double MeanUnforeseenMissesPerRay{ 0.0 };
+    double
+    GetExactError(unsigned int raysPerSide) const;
+  };
+
+  /** CPU nanoseconds of an exact ray, the mean over the views: cellFraction of the cells (1 / F for a coarse volume),
+   * with the cache misses or without (a coarse volume stays in the cache). */
+  double
+  GetRayNanoseconds(double cellFraction, bool withMisses) const;
   double
   ExactSeconds(unsigned int raysPerSide, uint64_t poses) const;
   double
   PointsSeconds(uint64_t samples, unsigned int factor, uint64_t poses) const;
 
-  CostModel m_Model;
-  double    m_Pixels{ 0.0 };
-  double    m_Voxels{ 0.0 };
-  double    m_MeanCellsPerRay{ 0.0 };
-  double    m_MeanLineIntegral{ 0.0 };
-  double    m_Range{ 0.0 };
-  double    m_ExactRms[3]{ 0.0, 0.0, 0.0 }; // RMS(v_k - v_8) for k = 1, 2, 4
+  CostModel              m_Model;
+  double                 m_Pixels{ 0.0 };
+  double                 m_Voxels{ 0.0 };
+  std::vector<ViewPilot> m_Views;
 };
 } // namespace itk
 

@@ -81,6 +81,15 @@ public:
   double
   CountCrossedCells(const DRRPointProjection & projection, double column, double row) const;
 
+  /** The cache lines (CacheLineBytes of the volume's voxels, x fastest) of the cells the ray through (column, row)
+   * crosses, in the order it reads them, a line read again at once listed once: which of a ray's reads a neighbouring
+   * ray has made warm, for a cost model (DRREstimatorChoice). */
+  std::vector<uint64_t>
+  ListReadCacheLines(const DRRPointProjection & projection, double column, double row) const;
+
+  /** Bytes of a cache line, for ListReadCacheLines(). */
+  static constexpr uint64_t CacheLineBytes = 64;
+
   /** The projection image (cols x rows, columns fastest; dimensionless line integrals): the average of raysPerSide^2
    * rays per pixel, on the threads of threader (not null), reporting progress to progressFilter (may be null), which
    * is also checked for abort. With channelImage (not null) and a volume with K channels, also each channel's
@@ -131,6 +140,17 @@ private:
               double        tExit,
               double *      channels,
               double        channelScale) const;
+
+  /** The traversal's start at tEnter on the segment p0 + t d: the cell, the step along each axis (-1, 0, 1), the
+   * parameter of the next plane of each axis and between two of them (infinity for an axis not crossed). */
+  void
+  StartTraversal(const double p0[3],
+                 const double d[3],
+                 double       tEnter,
+                 int64_t      cell[3],
+                 int64_t      step[3],
+                 double       tNext[3],
+                 double       tDelta[3]) const;
 
   /** Clips the segment p0 -> p1 (continuous indices) to the grid's cells: its direction into d and the parameters
    * of entry and exit (within the tEnter .. tExit given); false if it misses them. */

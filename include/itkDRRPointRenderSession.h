@@ -88,6 +88,13 @@ public:
     double   TargetError{ 0.0 };
     uint64_t MaximumNumberOfSamples{ 0 }; ///< see TargetError
     bool     ChooseEstimator{ false };    ///< see TargetError
+
+    /** The renders a choice made now serves: ExpectedNumberOfPoses for kept points, else this one. */
+    uint64_t
+    GetPosesServed() const
+    {
+      return ReusePoints ? ExpectedNumberOfPoses : 1;
+    }
   };
 
   /** The largest residual mass M_r / M that `auto` accepts: above it the session renders without a control variate.
@@ -169,6 +176,11 @@ public:
                   const DRRAttenuationVolume & volume,
                   const DRRPointProjection &   projection,
                   MultiThreaderBase *          threader);
+  /** The fastest estimator to the request's target over the views pilots measured (DRREstimatorChoice::Measure(),
+   * AddViews()): a batch's, chosen once for all of its views. Kept as ChooseEstimator()'s choice is, so that the
+   * renders of the views keep it. */
+  const DRREstimatorChoice::Candidate &
+  ChooseEstimator(const Request & request, const DRRAttenuationVolume & volume, const DRREstimatorChoice & pilots);
   /** Makes the choice the fastest exact rays that reach the request's target, and returns it: chosen points whose
    * estimate stopped falling with their number (a control variate's coarse image has an error of its own). */
   const DRREstimatorChoice::Candidate &
@@ -203,6 +215,12 @@ public:
   GetChosenEstimator() const
   {
     return m_Chosen;
+  }
+  /** Every candidate of the last choice, with its predicted error and work (DRREstimatorChoice::ListCandidates()). */
+  const std::vector<DRREstimatorChoice::Candidate> &
+  GetEstimatorCandidates() const
+  {
+    return m_Candidates;
   }
   /** Renders the view with the exact rays, raysPerSide^2 per pixel, of the request's kernel: no pass (a Refine()
    * after it is refused), a standard error of zero, and the choice's predicted error as the estimated one. */
@@ -372,13 +390,16 @@ private:
   TimeStamp          m_PassesTime;
   uint64_t           m_RefinementSamples{ 0 };
   // The estimator chosen for a target: the pilot, its choice, and what it was made for (kept points keep it).
-  std::unique_ptr<DRREstimatorChoice> m_Choice;
-  DRREstimatorChoice::Candidate       m_Chosen;
+  std::unique_ptr<DRREstimatorChoice>        m_Choice;
+  DRREstimatorChoice::Candidate              m_Chosen;
+  std::vector<DRREstimatorChoice::Candidate> m_Candidates;
   // The volume's time, target, poses, kernel, control variate allowed, budget, seed and sampler.
   using ChoiceMadeFor =
     std::tuple<ModifiedTimeType, double, uint64_t, unsigned int, bool, uint64_t, uint64_t, const DRRPointSampler *>;
   ChoiceMadeFor m_ChoiceMadeFor;
   bool          m_ChoiceSettled{ false };
+  static ChoiceMadeFor
+  MakeChoiceKey(const Request & request, const DRRAttenuationVolume & volume);
 };
 } // namespace itk
 

@@ -134,6 +134,15 @@ public:
    * render, and returns it: a batch of kept points probes its views with fewer points before it draws them all. */
   const DRREstimatorChoice::Candidate &
   MakeEstimatorChoice();
+  /** Makes the choice over several views at once, those whose pilots `pilots` holds (MeasureEstimatorChoice() at
+   * each, added up with DRREstimatorChoice::AddViews()), and returns it: a batch's views differ (a lateral view of a
+   * chest has more error, and its exact rays cost more, than the AP one), and its estimator is one for all of them.
+   * The renders after it keep it as they keep MakeEstimatorChoice()'s (ReusePoints). */
+  const DRREstimatorChoice::Candidate &
+  MakeEstimatorChoice(const DRREstimatorChoice & pilots);
+  /** The pilot of the current view (DRREstimatorChoice::Measure()), without a choice. */
+  DRREstimatorChoice
+  MeasureEstimatorChoice();
 
   /** Makes the last choice (MakeEstimatorChoice(), or a render's) the fastest exact rays that reach TargetError, and
    * returns it: for points that stalled above the target (their estimate no longer falls with their number). */
@@ -154,6 +163,13 @@ public:
   GetChosenEstimator() const
   {
     return m_Session->GetChosenEstimator();
+  }
+  /** Every candidate the last choice weighed (ChooseEstimator), with its predicted error and CPU time; empty before
+   * one. */
+  const std::vector<DRREstimatorChoice::Candidate> &
+  GetEstimatorCandidates() const
+  {
+    return m_Session->GetEstimatorCandidates();
   }
 
   /** The estimated relative error of the current outputs (see TargetError), 0 before a render. */
@@ -409,6 +425,9 @@ private:
   /** Whether this render chooses its estimator (ChooseEstimator, a TargetError, the whole volume). */
   bool
   ChoosesTheEstimator() const;
+  /** Throws unless the settings are valid and this filter chooses its estimator (ChoosesTheEstimator()). */
+  void
+  VerifyEstimatorChoice();
 
   /** Adds passes until the estimated error is at most TargetError (see there). */
   DRRPassCombination::Estimate

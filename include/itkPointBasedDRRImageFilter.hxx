@@ -396,14 +396,40 @@ template <typename TInputImage, typename TOutputImage>
 const DRREstimatorChoice::Candidate &
 PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeEstimatorChoice()
 {
-  this->VerifySettings();
-  if (!this->ChoosesTheEstimator())
-  {
-    itkExceptionMacro("MakeEstimatorChoice() needs ChooseEstimator, a TargetError and the whole volume");
-  }
+  this->VerifyEstimatorChoice();
   const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
   return m_Session->ChooseEstimator(
     this->MakeRequest(), *volume, this->MakeProjection(*volume), this->GetMultiThreader());
+}
+
+template <typename TInputImage, typename TOutputImage>
+const DRREstimatorChoice::Candidate &
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::MakeEstimatorChoice(const DRREstimatorChoice & pilots)
+{
+  this->VerifyEstimatorChoice();
+  return m_Session->ChooseEstimator(this->MakeRequest(), *this->GetAttenuationVolume(), pilots);
+}
+
+template <typename TInputImage, typename TOutputImage>
+DRREstimatorChoice
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::MeasureEstimatorChoice()
+{
+  this->VerifyEstimatorChoice();
+  const DRRAttenuationVolume * volume = this->GetAttenuationVolume();
+  DRREstimatorChoice           pilot;
+  pilot.Measure(*volume, m_ReconstructionKernel, this->MakeProjection(*volume), this->GetMultiThreader());
+  return pilot;
+}
+
+template <typename TInputImage, typename TOutputImage>
+void
+PointBasedDRRImageFilter<TInputImage, TOutputImage>::VerifyEstimatorChoice()
+{
+  this->VerifySettings();
+  if (!this->ChoosesTheEstimator())
+  {
+    itkExceptionMacro("a choice of estimator needs ChooseEstimator, a TargetError and the whole volume");
+  }
 }
 
 template <typename TInputImage, typename TOutputImage>

@@ -38,7 +38,28 @@ struct PilotPixel
 {
   double Values[PilotLevels]{};
   double Cells{ 0.0 };
+  double UnforeseenMisses{ 0.0 };
 };
+
+// The reads of a ray the cache has no line for and no prefetcher foresees: the lines of `lines` (the ray's, in order)
+// that the previous ray of its tile (the pixel before: `warm`, sorted) did not read, and whose step from the line
+// before is not the step before it (a stride prefetcher follows a constant step: an AP ray's rows one after another).
+double
+CountUnforeseenMisses(const std::vector<uint64_t> & lines, const std::vector<uint64_t> & warm)
+{
+  double  misses = 0.0;
+  int64_t lastStride = 0;
+  for (size_t i = 0; i < lines.size(); ++i)
+  {
+    const int64_t stride = i > 0 ? static_cast<int64_t>(lines[i] - lines[i - 1]) : 0;
+    if ((i == 0 || stride != lastStride) && !std::binary_search(warm.begin(), warm.end(), lines[i]))
+    {
+      misses += 1.0;
+    }
+    lastStride = stride;
+  }
+  return misses;
+}
 } // namespace
 
 constexpr unsigned int DRREstimatorChoice::PilotRaysPerSide[];
@@ -105,6 +126,10 @@ DRREstimatorChoice::Measure(const DRRAttenuationVolume & volume,
         pixel.Values[level] = sum / (static_cast<double>(k) * k);
       }
       pixel.Cells = integrator.CountCrossedCells(projection, column, row);
+      // The rays of a render are traced a tile of a row at a time, column after column (RenderProjection()).
+      std::vector<uint64_t> warm = integrator.ListReadCacheLines(projection, column - 1.0, row);
+      std::sort(warm.begin(), warm.end());
+      pixel.UnforeseenMisses = CountUnforeseenMisses(integrator.ListReadCacheLines(projection, column, row), warm);
     },
     nullptr);
 
@@ -112,6 +137,7 @@ DRREstimatorChoice::Measure(const DRRAttenuationVolume & volume,
   double       sumOfSquares[PilotLevels - 1]{};
   double       sum = 0.0;
   double       cells = 0.0;
+  double       misses = 0.0;
   double       low = std::numeric_limits<double>::infinity();
   double       high = -low;
   const size_t reference = PilotLevels - 1;
@@ -124,12 +150,14 @@ DRREstimatorChoice::Measure(const DRRAttenuationVolume & volume,
     }
     sum += pixel.Values[reference];
     cells += pixel.Cells;
+    misses += pixel.UnforeseenMisses;
     low = std::min(low, pixel.Values[reference]);
     high = std::max(high, pixel.Values[reference]);
   }
   const double count = static_cast<double>(pilot.size());
-  m_Range = high - low;
-  if (!(m_Range > 0.0) || !std::isfinite(m_Range))
+  ViewPilot    view;
+  view.Range = high - low;
+  if (!(view.Range > 0.0) || !std::isfinite(view.Range))
   {
     itkGenericExceptionMacro("DRREstimatorChoice: the view's pilot of " << pilot.size()
                                                                         << " pixels sees no contrast in the volume "
@@ -138,26 +166,51 @@ DRREstimatorChoice::Measure(const DRRAttenuationVolume & volume,
   }
   for (size_t level = 0; level < reference; ++level)
   {
-    m_ExactRms[level] = std::sqrt(sumOfSquares[level] / count);
+    view.ExactRms[level] = std::sqrt(sumOfSquares[level] / count);
   }
-  m_MeanLineIntegral = sum / count;
-  m_MeanCellsPerRay = cells / count;
+  view.MeanLineIntegral = sum / count;
+  view.MeanCellsPerRay = cells / count;
+  view.MeanUnforeseenMissesPerRay = misses / count;
+  m_Views.assign(1, view);
   m_Pixels = static_cast<double>(columns) * rows;
   m_Voxels = static_cast<double>(volume.GetNumberOfVoxels());
+}
+
+void
+DRREstimatorChoice::AddViews(const DRREstimatorChoice & other)
+{
+  if (m_Views.empty() || other.m_Views.empty() || other.m_Pixels != m_Pixels || other.m_Voxels != m_Voxels)
+  {
+    itkGenericExceptionMacro("DRREstimatorChoice: AddViews() needs two measured choices of the same detector ("
+                             << m_Pixels << " and " << other.m_Pixels << " pixels) and volume (" << m_Voxels << " and "
+                             << other.m_Voxels << " voxels)");
+  }
+  m_Views.insert(m_Views.end(), other.m_Views.begin(), other.m_Views.end());
 }
 
 double
 DRREstimatorChoice::GetExactError(unsigned int raysPerSide) const
 {
+  double largest = 0.0;
+  for (const ViewPilot & view : m_Views)
+  {
+    largest = std::max(largest, view.GetExactError(raysPerSide));
+  }
+  return largest;
+}
+
+double
+DRREstimatorChoice::ViewPilot::GetExactError(unsigned int raysPerSide) const
+{
   // e_k = RMS(v_k - v_8) / (1 - k / 8): v_8 keeps at most k / 8 of v_k's error (the error falls as 1 / k at least).
   switch (raysPerSide)
   {
     case 1:
-      return m_ExactRms[0] / (1.0 - 1.0 / 8.0) / m_Range;
+      return ExactRms[0] / (1.0 - 1.0 / 8.0) / Range;
     case 2:
-      return m_ExactRms[1] / (1.0 - 2.0 / 8.0) / m_Range;
+      return ExactRms[1] / (1.0 - 2.0 / 8.0) / Range;
     case 4:
-      return m_ExactRms[2] / (1.0 - 4.0 / 8.0) / m_Range;
+      return ExactRms[2] / (1.0 - 4.0 / 8.0) / Range;
     case 8:
       return 0.5 * this->GetExactError(4);
     case 16:
@@ -172,15 +225,55 @@ DRREstimatorChoice::GetPointsError(uint64_t samples, unsigned int factor) const
 {
   const double controlVariate =
     factor > 0 ? m_Model.ControlVariateErrorScale2 * std::pow(0.5 * factor, m_Model.ControlVariateErrorExponent) : 1.0;
-  return m_Model.PointErrorScale * controlVariate * m_MeanLineIntegral *
-         std::sqrt(m_Pixels / static_cast<double>(std::max<uint64_t>(samples, 1))) / m_Range;
+  double largest = 0.0; // mean(L) / range, of the view where it is largest
+  for (const ViewPilot & view : m_Views)
+  {
+    largest = std::max(largest, view.MeanLineIntegral / view.Range);
+  }
+  return m_Model.PointErrorScale * controlVariate * largest *
+         std::sqrt(m_Pixels / static_cast<double>(std::max<uint64_t>(samples, 1)));
+}
+
+double
+DRREstimatorChoice::GetRayNanoseconds(double cellFraction, bool withMisses) const
+{
+  // Averaged over the views: their rays are traced in turn, every pose of each.
+  double nanoseconds = 0.0;
+  for (const ViewPilot & view : m_Views)
+  {
+    nanoseconds += m_Model.RayNanoseconds + m_Model.CellNanoseconds * cellFraction * view.MeanCellsPerRay +
+                   (withMisses ? m_Model.UnforeseenMissNanoseconds * view.MeanUnforeseenMissesPerRay : 0.0);
+  }
+  return nanoseconds / static_cast<double>(m_Views.size());
+}
+
+double
+DRREstimatorChoice::GetMeanCellsPerRay() const
+{
+  double sum = 0.0;
+  for (const ViewPilot & view : m_Views)
+  {
+    sum += view.MeanCellsPerRay;
+  }
+  return m_Views.empty() ? 0.0 : sum / static_cast<double>(m_Views.size());
+}
+
+double
+DRREstimatorChoice::GetMeanUnforeseenMissesPerRay() const
+{
+  double sum = 0.0;
+  for (const ViewPilot & view : m_Views)
+  {
+    sum += view.MeanUnforeseenMissesPerRay;
+  }
+  return m_Views.empty() ? 0.0 : sum / static_cast<double>(m_Views.size());
 }
 
 double
 DRREstimatorChoice::ExactSeconds(unsigned int raysPerSide, uint64_t poses) const
 {
   const double rays = static_cast<double>(poses) * m_Pixels * raysPerSide * raysPerSide;
-  return 1e-9 * rays * (m_Model.RayNanoseconds + m_Model.CellNanoseconds * m_MeanCellsPerRay);
+  return 1e-9 * rays * this->GetRayNanoseconds(1.0, true);
 }
 
 double
@@ -191,10 +284,11 @@ DRREstimatorChoice::PointsSeconds(uint64_t samples, unsigned int factor, uint64_
                        static_cast<double>(poses - 1) * points * m_Model.KeptPointNanoseconds;
   if (factor > 0)
   {
+    // The coarse volume is F^3 times smaller: it stays in the cache, and its rays cross 1 / F of the cells.
     const double coarseRays = m_Pixels * (m_Model.CoarseRaysPerPixel +
                                           static_cast<double>(poses - 1) * m_Model.CoarseRaysPerPixelAfterTheFirstPose);
-    nanoseconds += m_Voxels * m_Model.SplitNanosecondsPerVoxel +
-                   coarseRays * (m_Model.RayNanoseconds + m_Model.CellNanoseconds * m_MeanCellsPerRay / factor);
+    nanoseconds +=
+      m_Voxels * m_Model.SplitNanosecondsPerVoxel + coarseRays * this->GetRayNanoseconds(1.0 / factor, false);
   }
   return 1e-9 * nanoseconds;
 }
@@ -202,7 +296,7 @@ DRREstimatorChoice::PointsSeconds(uint64_t samples, unsigned int factor, uint64_
 std::vector<DRREstimatorChoice::Candidate>
 DRREstimatorChoice::ListCandidates(double target, uint64_t poses, bool controlVariate) const
 {
-  if (!(target > 0.0) || !(m_Range > 0.0))
+  if (!(target > 0.0) || m_Views.empty())
   {
     itkGenericExceptionMacro("DRREstimatorChoice: ListCandidates() needs a target above 0 and Measure() first");
   }

@@ -256,28 +256,15 @@ DRRExactRayIntegrator::CountCrossedCells(const DRRPointProjection & projection, 
   return cells;
 }
 
-double
-DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
-                                        const double p1[3],
-                                        double *     channels,
-                                        double       channelScale) const
+void
+DRRExactRayIntegrator::StartTraversal(const double p0[3],
+                                      const double d[3],
+                                      double       tEnter,
+                                      int64_t      cell[3],
+                                      int64_t      step[3],
+                                      double       tNext[3],
+                                      double       tDelta[3]) const
 {
-  if (channels && !m_Volume.GetVoxelChannels())
-  {
-    itkGenericExceptionMacro("DRRExactRayIntegrator: channel integrals asked of a volume without channels");
-  }
-  double d[3];
-  double tEnter = 0.0;
-  double tExit = 1.0;
-  if (!this->ClipToGrid(p0, p1, d, tEnter, tExit))
-  {
-    return 0.0;
-  }
-
-  int64_t cell[3];
-  int64_t step[3];
-  double  tNext[3];
-  double  tDelta[3];
   for (unsigned int a = 0; a < 3; ++a)
   {
     const double position = p0[a] + tEnter * d[a] - m_GridStart;
@@ -306,6 +293,83 @@ DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
       tDelta[a] = std::numeric_limits<double>::infinity();
     }
   }
+}
+
+std::vector<uint64_t>
+DRRExactRayIntegrator::ListReadCacheLines(const DRRPointProjection & projection, double column, double row) const
+{
+  std::vector<uint64_t> lines;
+  double                p0[3];
+  double                p1[3];
+  this->ComputeRaySegment(projection, column, row, p0, p1);
+  double d[3];
+  double tEnter = 0.0;
+  double tExit = 1.0;
+  if (!this->ClipToGrid(p0, p1, d, tEnter, tExit))
+  {
+    return lines;
+  }
+  int64_t cell[3];
+  int64_t step[3];
+  double  tNext[3];
+  double  tDelta[3];
+  this->StartTraversal(p0, d, tEnter, cell, step, tNext, tDelta);
+  const uint64_t nx = m_Volume.GetSize()[0];
+  const uint64_t nxy = nx * m_Volume.GetSize()[1];
+  const uint64_t bytes = m_Volume.GetMuReader().GetBytesPerVoxel();
+  // The cell's voxel (the trilinear grid's cell: its lower corner, the padding clamped into the volume).
+  const auto voxelLine = [&]() {
+    uint64_t index[3];
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      index[a] = static_cast<uint64_t>(
+        std::min<int64_t>(std::max<int64_t>(cell[a], 0), static_cast<int64_t>(m_Volume.GetSize()[a]) - 1));
+    }
+    return (index[0] + nx * index[1] + nxy * index[2]) * bytes / CacheLineBytes;
+  };
+  double t = tEnter;
+  while (t < tExit)
+  {
+    const uint64_t line = voxelLine();
+    if (lines.empty() || lines.back() != line)
+    {
+      lines.push_back(line);
+    }
+    const unsigned int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+    t = tNext[a];
+    tNext[a] += tDelta[a];
+    cell[a] += step[a];
+    if (cell[a] < 0 || cell[a] >= m_NumberOfCells[a])
+    {
+      break;
+    }
+  }
+  return lines;
+}
+
+double
+DRRExactRayIntegrator::IntegrateSegment(const double p0[3],
+                                        const double p1[3],
+                                        double *     channels,
+                                        double       channelScale) const
+{
+  if (channels && !m_Volume.GetVoxelChannels())
+  {
+    itkGenericExceptionMacro("DRRExactRayIntegrator: channel integrals asked of a volume without channels");
+  }
+  double d[3];
+  double tEnter = 0.0;
+  double tExit = 1.0;
+  if (!this->ClipToGrid(p0, p1, d, tEnter, tExit))
+  {
+    return 0.0;
+  }
+
+  int64_t cell[3];
+  int64_t step[3];
+  double  tNext[3];
+  double  tDelta[3];
+  this->StartTraversal(p0, d, tEnter, cell, step, tNext, tDelta);
 
   // mu read in place from a volume of keys (16-bit input adds no byte per voxel), else from mu per voxel.
   const MuReaderType mu = m_Volume.GetMuReader();

@@ -155,7 +155,7 @@ DRRPointRenderSession::ResolveFactor(const Request &              request,
     return m_Factor; // kept points: one split (or its decline) for every pose, chosen at the first
   }
   return DRRControlVariate::ChooseFactor(
-    volume, projection, request.Settings.NumberOfSamples, request.ReusePoints ? request.ExpectedNumberOfPoses : 1);
+    volume, projection, request.Settings.NumberOfSamples, request.GetPosesServed());
 }
 
 void
@@ -361,11 +361,8 @@ DRRPointRenderSession::ResolveStreamedFactor(const Request &                 req
     return ControlVariateApplies(request) ? request.ControlVariateFactor : 0;
   }
   const DRRAttenuationVolume::SizeType size{ { wholeSize[0], wholeSize[1], wholeSize[2] } };
-  const unsigned int                   factor = DRRControlVariate::ChooseFactor(size,
-                                                              grid.GetVoxelVolume(),
-                                                              projection,
-                                                              request.Settings.NumberOfSamples,
-                                                              request.ReusePoints ? request.ExpectedNumberOfPoses : 1);
+  const unsigned int                   factor = DRRControlVariate::ChooseFactor(
+    size, grid.GetVoxelVolume(), projection, request.Settings.NumberOfSamples, request.GetPosesServed());
   return std::max(factor, MinimumStreamedAutomaticFactor);
 }
 } // namespace itk

@@ -27,27 +27,41 @@ DRRPointRenderSession::ChooseEstimator(const Request &              request,
                                        const DRRPointProjection &   projection,
                                        MultiThreaderBase *          threader)
 {
-  const uint64_t      poses = request.ReusePoints ? request.ExpectedNumberOfPoses : 1;
-  const bool          controlVariate = ControlVariateApplies(request);
-  const ChoiceMadeFor madeFor{ volume.GetMTime(),
-                               request.TargetError,
-                               poses,
-                               static_cast<unsigned int>(request.Settings.Kernel),
-                               controlVariate,
-                               request.MaximumNumberOfSamples,
-                               request.Settings.Seed,
-                               request.Sampler };
-  if (request.ReusePoints && m_Choice && madeFor == m_ChoiceMadeFor)
+  if (request.ReusePoints && m_Choice && MakeChoiceKey(request, volume) == m_ChoiceMadeFor)
   {
     return m_Chosen;
   }
-  auto choice = std::make_unique<DRREstimatorChoice>();
-  choice->Measure(volume, request.Settings.Kernel, projection, threader);
-  m_Chosen = choice->Choose(request.TargetError, poses, controlVariate, request.MaximumNumberOfSamples);
-  m_Choice = std::move(choice);
-  m_ChoiceMadeFor = madeFor;
+  DRREstimatorChoice pilot;
+  pilot.Measure(volume, request.Settings.Kernel, projection, threader);
+  return this->ChooseEstimator(request, volume, pilot);
+}
+
+const DRREstimatorChoice::Candidate &
+DRRPointRenderSession::ChooseEstimator(const Request &              request,
+                                       const DRRAttenuationVolume & volume,
+                                       const DRREstimatorChoice &   pilots)
+{
+  const uint64_t poses = request.GetPosesServed();
+  const bool     controlVariate = ControlVariateApplies(request);
+  m_Chosen = pilots.Choose(request.TargetError, poses, controlVariate, request.MaximumNumberOfSamples);
+  m_Candidates = pilots.ListCandidates(request.TargetError, poses, controlVariate);
+  m_Choice = std::make_unique<DRREstimatorChoice>(pilots);
+  m_ChoiceMadeFor = MakeChoiceKey(request, volume);
   m_ChoiceSettled = false;
   return m_Chosen;
+}
+
+DRRPointRenderSession::ChoiceMadeFor
+DRRPointRenderSession::MakeChoiceKey(const Request & request, const DRRAttenuationVolume & volume)
+{
+  return ChoiceMadeFor{ volume.GetMTime(),
+                        request.TargetError,
+                        request.GetPosesServed(),
+                        static_cast<unsigned int>(request.Settings.Kernel),
+                        ControlVariateApplies(request),
+                        request.MaximumNumberOfSamples,
+                        request.Settings.Seed,
+                        request.Sampler };
 }
 
 const DRREstimatorChoice::Candidate &
@@ -57,10 +71,8 @@ DRRPointRenderSession::FallBackToExactRays(const Request & request)
   {
     itkGenericExceptionMacro("DRRPointRenderSession: FallBackToExactRays() needs ChooseEstimator() first");
   }
-  const uint64_t                        poses = request.ReusePoints ? request.ExpectedNumberOfPoses : 1;
-  const auto                            candidates = m_Choice->ListCandidates(request.TargetError, poses, false);
   const DRREstimatorChoice::Candidate * fastest = nullptr;
-  for (const DRREstimatorChoice::Candidate & candidate : candidates)
+  for (const DRREstimatorChoice::Candidate & candidate : m_Candidates)
   {
     if (candidate.Kind == DRREstimatorChoice::Estimator::ExactRays && candidate.Error <= request.TargetError &&
         (!fastest || candidate.Seconds < fastest->Seconds))

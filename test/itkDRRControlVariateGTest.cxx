@@ -665,6 +665,103 @@ TEST(DRREstimatorChoice, NeverPicksAnEstimatorWhoseEstimateIsAboveTheTarget)
                        "no estimator is predicted to reach the target error"));
 }
 
+// 64 x 64 x 32 voxels of 1 mm, HU: a soft-tissue cylinder along z with a bone block off its axis. Its rows along x
+// (the fastest axis) are 4 cache lines of mu: long enough for a lateral ray to read its own.
+MuVolumeType::Pointer
+MakeCylinderPhantom()
+{
+  MuVolumeType::SpacingType spacing;
+  spacing.Fill(1.0);
+  MuVolumeType::DirectionType direction;
+  direction.SetIdentity();
+  auto volume = MakeVolume<MuVolumeType>({ { 64, 64, 32 } }, spacing, MuVolumeType::PointType(), direction);
+  for (itk::IndexValueType k = 0; k < 32; ++k)
+  {
+    for (itk::IndexValueType j = 0; j < 64; ++j)
+    {
+      for (itk::IndexValueType i = 0; i < 64; ++i)
+      {
+        const double x = i - 31.5, y = j - 31.5;
+        volume->SetPixel({ { i, j, k } }, x * x + y * y < 900.0 ? 40.0f : -1000.0f);
+      }
+    }
+  }
+  FillBlock(volume.GetPointer(), { { 10, 30, 8 } }, { { 20, 50, 20 } }, 1200.0f);
+  return volume;
+}
+
+// A wide cone (SAD 200 mm, SID 300 mm) at a gantry angle: 32 x 32 pixels of 4 mm, 2.7 mm apart at the isocentre.
+itk::DRRProjectionGeometry::Pointer
+WideConeGeometry(const MuVolumeType * volume, double gantryDegrees, unsigned int side = 32)
+{
+  auto geometry = itk::DRRProjectionGeometry::New();
+  geometry->SetSourceToIsocenterDistance(200.0);
+  geometry->SetSourceToDetectorDistance(300.0);
+  geometry->SetIsocenterToImageCenter(volume);
+  geometry->SetGantryAngleInDegrees(gantryDegrees);
+  geometry->SetDetectorSize({ { side, side } });
+  itk::Vector<double, 2> spacing;
+  spacing.Fill(4.0);
+  geometry->SetDetectorSpacing(spacing);
+  return geometry;
+}
+
+// The pilot counts each view's reads that miss the cache: a lateral ray reads the CT's rows along x, and the ray of
+// the pixel before it reads other rows, so that its reads miss; an AP ray's neighbours read its lines. Their cost is
+// in the exact rays' work. A choice over several views (a batch's) takes the largest error of any of them and the mean
+// work, and the renders after it keep it.
+TEST(DRREstimatorChoice, CountsEachViewsCacheMissesAndChoosesOverAllViews)
+{
+  const auto volume = MakeCylinderPhantom();
+  auto       filter = MakeChoosingFilter(volume, WideConeGeometry(volume, 90.0), 0.01);
+  filter->ReusePointsOn();
+  filter->SetExpectedNumberOfPoses(100);
+  itk::DRREstimatorChoice choice = filter->MeasureEstimatorChoice();
+  filter->SetGeometry(WideConeGeometry(volume, 0.0));
+  const itk::DRREstimatorChoice lateral = filter->MeasureEstimatorChoice();
+  const itk::DRREstimatorChoice ap = choice;
+  ASSERT_EQ(ap.GetNumberOfViews(), 1u);
+  EXPECT_NEAR(lateral.GetMeanCellsPerRay(), ap.GetMeanCellsPerRay(), 1e-6 * ap.GetMeanCellsPerRay())
+    << "a square section: the same cells at 0 and 90 degrees";
+  EXPECT_GT(lateral.GetMeanUnforeseenMissesPerRay(), 4.0 * ap.GetMeanUnforeseenMissesPerRay());
+  const auto exactSeconds = [](const itk::DRREstimatorChoice & pilots) {
+    return pilots.ListCandidates(0.01, 100, true).front().Seconds; // exact, 1 x 1 rays per pixel
+  };
+  EXPECT_GT(exactSeconds(lateral), 1.2 * exactSeconds(ap)) << "the lateral rays' misses cost";
+
+  choice.AddViews(lateral);
+  ASSERT_EQ(choice.GetNumberOfViews(), 2u);
+  EXPECT_NEAR(exactSeconds(choice), 0.5 * (exactSeconds(ap) + exactSeconds(lateral)), 1e-9 * exactSeconds(choice));
+  for (const unsigned int k : { 1u, 2u, 4u, 16u })
+  {
+    EXPECT_EQ(choice.GetExactError(k), std::max(ap.GetExactError(k), lateral.GetExactError(k))) << k;
+  }
+  EXPECT_NE(ap.GetExactError(1), lateral.GetExactError(1)) << "the views differ";
+  for (const unsigned int factor : { 0u, 8u })
+  {
+    EXPECT_EQ(choice.GetPointsError(100000, factor),
+              std::max(ap.GetPointsError(100000, factor), lateral.GetPointsError(100000, factor)));
+  }
+  itk::DRREstimatorChoice other = lateral;
+  other.AddViews(lateral);
+  EXPECT_EQ(other.GetNumberOfViews(), 2u);
+  auto smaller = MakeChoosingFilter(volume, WideConeGeometry(volume, 0.0, 16), 0.01);
+  EXPECT_TRUE(Contains(ExceptionMessage([&] { other.AddViews(smaller->MeasureEstimatorChoice()); }, "other detector"),
+                       "the same detector"));
+
+  // The renders keep the choice over both views: at each view, the exact rays' estimate is the larger one's.
+  const auto chosen = filter->MakeEstimatorChoice(choice);
+  EXPECT_EQ(chosen.Error, choice.Choose(0.01, 100, true, uint64_t{ 1 } << 40).Error);
+  for (const double gantry : { 90.0, 0.0 })
+  {
+    filter->SetGeometry(WideConeGeometry(volume, gantry));
+    filter->Update();
+    ASSERT_NE(filter->GetEstimatorChoice(), nullptr);
+    EXPECT_EQ(filter->GetEstimatorChoice()->GetNumberOfViews(), 2u) << "kept at gantry " << gantry;
+    EXPECT_EQ(filter->GetChosenEstimator().Describe(), chosen.Describe());
+  }
+}
+
 // ChooseEstimator reaches the target against the exact image at every seed: the exact rays of a single view, and
 // the kept points of many poses (where points are chosen), whose estimate and true error are at most the target.
 TEST(PointBasedDRRChooseEstimator, ReachesTheTargetAgainstTheExactImageAtEverySeed)

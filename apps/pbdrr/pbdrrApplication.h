@@ -110,16 +110,17 @@ PrintAccuracy(const TFilter & filter, double askedPercent)
   const itk::DRREstimatorChoice * choice = filter.GetEstimatorChoice(); // null unless the filter chose
   if (choice)
   {
-    const auto & chosen = filter.GetChosenEstimator();
+    const auto &       chosen = filter.GetChosenEstimator();
+    const unsigned int views = choice->GetNumberOfViews();
     std::cerr << "pbdrr: accuracy: pilot of " << itk::DRREstimatorChoice::PilotGridSide << " x "
-              << itk::DRREstimatorChoice::PilotGridSide << " pixels: mean line integral "
-              << choice->GetMeanLineIntegral() << ", range " << choice->GetRange()
-              << "; predicted error and CPU time to " << askedPercent << "%:" << std::endl;
-    const auto candidates =
-      choice->ListCandidates(askedPercent / 100.0,
-                             filter.GetReusePoints() ? filter.GetExpectedNumberOfPoses() : 1,
-                             filter.GetReconstructionKernel() == itk::PointBasedDRREnums::ReconstructionKernel::Box);
-    for (const auto & candidate : candidates)
+              << itk::DRREstimatorChoice::PilotGridSide << " pixels"
+              << (views > 1 ? " in each of " + std::to_string(views) + " views" : std::string()) << ": "
+              << (views > 1 ? "the first's " : "") << "mean line integral " << choice->GetMeanLineIntegral()
+              << ", range " << choice->GetRange() << "; an exact ray crosses " << choice->GetMeanCellsPerRay()
+              << " cells and misses the cache " << choice->GetMeanUnforeseenMissesPerRay() << " times"
+              << (views > 1 ? " (means), the largest error of the views" : "") << "; predicted error and CPU time to "
+              << askedPercent << "%:" << std::endl;
+    for (const auto & candidate : filter.GetEstimatorCandidates())
     {
       const bool reaches = candidate.Error <= askedPercent / 100.0;
       std::cerr << "pbdrr: accuracy:   " << candidate.Describe() << ": " << 100.0 * candidate.Error << "% in "

@@ -45,9 +45,18 @@ template <typename TVolume>
 double
 FixAccuracy(const Renderer<TVolume> & renderer, uint64_t views, const std::function<void(uint64_t)> & setView)
 {
-  auto & points = *renderer.Points;
+  auto &         points = *renderer.Points;
+  const uint64_t probes = std::min<uint64_t>(AccuracyProbeViews, views);
+  // The choice over the probes' pilots: their errors and their rays' work differ (a lateral ray costs more).
   setView(0);
-  const itk::DRREstimatorChoice::Candidate chosen = points.MakeEstimatorChoice();
+  itk::DRREstimatorChoice pilots = points.MeasureEstimatorChoice();
+  for (uint64_t p = 1; p < probes; ++p)
+  {
+    setView(p * views / probes);
+    pilots.AddViews(points.MeasureEstimatorChoice());
+  }
+  setView(0);
+  const itk::DRREstimatorChoice::Candidate chosen = points.MakeEstimatorChoice(pilots);
   if (chosen.Kind != itk::DRREstimatorChoice::Estimator::Points)
   {
     return chosen.Error;
@@ -57,10 +66,9 @@ FixAccuracy(const Renderer<TVolume> & renderer, uint64_t views, const std::funct
   points.SetTargetError(0.0); // the probes measure the kept points alone
   points.SetControlVariateFactor(chosen.ControlVariateFactor);
   points.SetNumberOfSamples(std::max<uint64_t>(chosen.NumberOfSamples / 4, 4096));
-  const uint64_t probes = std::min<uint64_t>(AccuracyProbeViews, views);
-  double         largest = 0.0;
-  double         previous = 0.0; // the largest estimate of the draw before, and its points
-  double         previousPoints = 0.0;
+  double largest = 0.0;
+  double previous = 0.0; // the largest estimate of the draw before, and its points
+  double previousPoints = 0.0;
   for (unsigned int draw = 0; draw < 4; ++draw)
   {
     largest = 0.0;
