@@ -10,7 +10,8 @@
 #        batch  the chest's view swept over 360 views 1 degree apart in one process (kept points), scored at 8 views
 # Targets 2, 1, 0.5 and 0.25%, medians of RUNS (default 3) whole processes; benchmark/accuracy_target.py says how.
 # Environment: PBDRR (default build/apps/pbdrr/pbdrr), CHEST (default ../shared/data/ct/lidc-idri-0314-chest),
-# X2 (the 2x chest .mha), OUT (default /tmp/accuracy_target), RUNS, TARGETS (default 2,1,0.5,0.25), BATCH_VIEWS
+# X2 (the 2x chest .mha), OUT (default /tmp/accuracy_target), RUNS, TARGETS (default 2,1,0.5,0.25), FACTORS
+# (default off,2,8: the search's control variates, off for plain points), BATCH_VIEWS
 # (default 360) and SCORED (default 8) for the batch.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
