@@ -24,6 +24,7 @@
 #include "itkDRRPointRenderSession.h"
 #include "itkDRRPointSampler.h"
 #include "itkDRRPointRenderer.h"
+#include "itkDRRRefinementTrend.h"
 
 #include <memory>
 
@@ -177,6 +178,13 @@ public:
   GetEstimatedError() const
   {
     return m_Session->GetEstimatedError();
+  }
+  /** The part of GetEstimatedError() that is the control variate's coarse image's (its rays' replicates), 0 without
+   * one: with ComputeStandardError off its rays are one replicate, not two, and its variance doubles. */
+  double
+  GetCoarseImageError() const
+  {
+    return m_Session->GetCoarseImageError();
   }
 
   ///@{

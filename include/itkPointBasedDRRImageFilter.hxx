@@ -328,8 +328,8 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
                                                                     DRRPassCombination::Estimate           estimate)
 {
   // The error of independent passes falls as 1 / sqrt(points): the points missing for the target, a tenth more so
-  // that an estimate a little low does not cost a pass of a few points. Every pass adds at least a tenth of the
-  // points, so the passes end, at the target or at MaximumNumberOfSamples.
+  // that an estimate a little low does not cost a pass of a few points (DRRRefinementTrend::GetGrowthToTarget()).
+  // Every pass adds at least a tenth of the points, so the passes end, at the target or at MaximumNumberOfSamples.
   // Chosen kept points are drawn again, more of them, at the choice's first pose: the poses after it re-project
   // them alone, whatever their estimates, so that every pose's image is a function of the first pose and its own.
   const bool chosenKeptPoints = request.ReusePoints && this->ChoosesTheEstimator();
@@ -337,39 +337,31 @@ PointBasedDRRImageFilter<TInputImage, TOutputImage>::RefineToTarget(const DRRPoi
   {
     return estimate;
   }
-  const bool drawAgain = chosenKeptPoints;
-  double     previous = 0.0; // the estimate before the last draw or pass, and its points
-  double     previousTotal = 0.0;
+  const bool         drawAgain = chosenKeptPoints;
+  DRRRefinementTrend trend;
   for (double error = m_Session->GetEstimatedError(); error > m_TargetError; error = m_Session->GetEstimatedError())
   {
     const double total = static_cast<double>(m_Session->GetPasses().GetNumberOfSamples());
-    const double wanted = std::ceil(1.1 * total * (error / m_TargetError) * (error / m_TargetError));
-    const double expected = previous * std::sqrt(previousTotal / total); // as 1 / sqrt(points)
-    if (this->ChoosesTheEstimator() && previousTotal > 0.0 && total >= 1.5 * previousTotal &&
-        error - expected > 0.5 * (previous - expected))
+    if (trend.AddEstimate(total, error) && this->ChoosesTheEstimator())
     {
-      // The last points lowered the estimate by less than half of what 1 / sqrt(N) predicts: what is left is not
-      // theirs to lower (the control variate's coarse image, its rays per pixel fixed). The exact rays that reach the
-      // target instead.
+      // What is left is not the points' to lower: the exact rays that reach the target instead.
       return this->RenderExactInstead(request);
     }
-    if (previousTotal == 0.0 || total >= 1.5 * previousTotal)
+    // Kept points are one pass, its coarse image's rays fixed: its error stays (passes each trace their own).
+    const double coarse = drawAgain ? std::min(m_Session->GetCoarseImageError(), error) : 0.0;
+    if (drawAgain && coarse > DRRRefinementTrend::LargestCoarseShare * m_TargetError)
     {
-      previous = error; // judged over half as many points again at least: the estimates of few are noisy
-      previousTotal = total;
+      // The coarse image's rays alone are near the target: kept points would need many times more (their part must
+      // fall to sqrt(t^2 - c^2)). The exact rays that reach the target instead.
+      return this->RenderExactInstead(request);
     }
+    const double wanted = std::ceil(total * DRRRefinementTrend::GetGrowthToTarget(error, coarse, m_TargetError));
     if (!(wanted <= static_cast<double>(m_MaximumNumberOfSamples)))
     {
       itkExceptionMacro("the target error " << m_TargetError << " is not reached within MaximumNumberOfSamples "
                                             << m_MaximumNumberOfSamples << ": the estimated error is " << error
                                             << " at " << total << " points, and about " << wanted
                                             << " would be needed");
-    }
-    if (drawAgain && m_Session->GetCoarseImageError() > 0.8 * m_TargetError)
-    {
-      // The coarse image's rays alone are near the target: kept points would need many times more (their part must
-      // fall to sqrt(t^2 - c^2)). The exact rays that reach the target instead.
-      return this->RenderExactInstead(request);
     }
     if (drawAgain)
     {

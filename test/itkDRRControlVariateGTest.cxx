@@ -21,6 +21,7 @@
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRRControlVariate.h"
+#include "itkDRRRefinementTrend.h"
 #include "itkDRRSamplerFactory.h"
 #include "itkDRRTransferFunction.h"
 #include "itkEuler3DTransform.h"
@@ -760,6 +761,29 @@ TEST(DRREstimatorChoice, CountsEachViewsCacheMissesAndChoosesOverAllViews)
     EXPECT_EQ(filter->GetEstimatorChoice()->GetNumberOfViews(), 2u) << "kept at gantry " << gantry;
     EXPECT_EQ(filter->GetChosenEstimator().Describe(), chosen.Describe());
   }
+}
+
+// The refinement's rules: an estimate that falls as 1 / sqrt(N) has not stalled, one that stays has (judged over 1.5
+// times the points at least); the points grow for the part of the estimate that is theirs, the coarse image's stays.
+TEST(DRRRefinementTrend, JudgesTheFallWithThePointsAndGrowsThemForTheirOwnPart)
+{
+  itk::DRRRefinementTrend falling;
+  EXPECT_FALSE(falling.AddEstimate(1e6, 0.02));
+  EXPECT_FALSE(falling.AddEstimate(4e6, 0.0101)) << "1 / sqrt(N), a little noise";
+  EXPECT_FALSE(falling.AddEstimate(16e6, 0.0052));
+  itk::DRRRefinementTrend flat;
+  EXPECT_FALSE(flat.AddEstimate(1e6, 0.02));
+  EXPECT_FALSE(flat.AddEstimate(1.2e6, 0.02)) << "not judged: too few points more";
+  EXPECT_TRUE(flat.AddEstimate(4e6, 0.017)) << "fell by 0.003 where 1 / sqrt(N) says 0.01";
+  itk::DRRRefinementTrend half;
+  EXPECT_FALSE(half.AddEstimate(1e6, 0.02));
+  EXPECT_FALSE(half.AddEstimate(4e6, 0.0140)) << "fell by 0.006: more than half of 0.01";
+
+  using Trend = itk::DRRRefinementTrend;
+  EXPECT_DOUBLE_EQ(Trend::GetGrowthToTarget(0.02, 0.0, 0.01), 1.1 * 4.0);
+  // A coarse image of 0.005 (it stays): the points' part must fall from sqrt(4 - 0.25) to sqrt(1 - 0.25) (x 0.01).
+  EXPECT_DOUBLE_EQ(Trend::GetGrowthToTarget(0.02, 0.005, 0.01), 1.1 * 3.75 / 0.75);
+  EXPECT_TRUE(std::isinf(Trend::GetGrowthToTarget(0.02, 0.0081, 0.01))) << "the coarse image near the target alone";
 }
 
 // ChooseEstimator reaches the target against the exact image at every seed: the exact rays of a single view, and

@@ -21,6 +21,7 @@
 // --accuracy over a batch of views (issue 41): the estimator chosen at view 0, kept points probed over the views.
 
 #include "pbdrrApplication.h"
+#include "itkDRRRefinementTrend.h"
 
 #include <algorithm>
 #include <cmath>
@@ -33,14 +34,15 @@ namespace pbdrr
 /** Views of a batch whose kept points' estimates --accuracy checks before the batch: spread over it, view 0 first. */
 constexpr uint64_t AccuracyProbeViews = 8;
 
-/** --accuracy over kept points: the estimator is chosen at view 0 (its pilot). Chosen points are fixed (F) and probed
- * first: a quarter of the points predicted, drawn once and re-projected at AccuracyProbeViews views spread over the
- * views (views differ: a lateral view of a chest has more error than the AP one); then all of them are drawn, as many
- * as the largest estimate of the probes asks and a tenth more, and checked again at the probes (drawn again if they
- * still miss). The views then re-project them without a standard error (the coarse image traces one replicate of rays,
- * half of them). The probes are the same views in every run and shard, so the images are too. Exact rays, chosen, trace
- * every view alike. setView(k) sets the filter to view k of the views. Returns the largest estimate of the probes
- * (the pilot's for exact rays). */
+/** --accuracy over kept points: the estimator is chosen over the pilots of AccuracyProbeViews views spread over the
+ * views, view 0 first (views differ: a lateral view of a chest has more error, and its exact rays cost more, than the
+ * AP one). Chosen points are fixed (F) and probed first: a quarter of the points predicted, drawn once and re-projected
+ * at the probe views; then all of them are drawn, as many as the largest estimate of the probes asks and a tenth more,
+ * and checked again at the probes (drawn again if they still miss; exact rays instead if the estimate stalls). The
+ * views then re-project them without a standard error (the coarse image traces one replicate of rays, half of them)
+ * unless its doubled variance would lift the largest estimate over the target. The probes are the same views in every
+ * run and shard, so the images are too. Exact rays, chosen, trace every view alike. setView(k) sets the filter to view
+ * k of the views. Returns the largest estimate of the probes (the pilots' for exact rays). */
 template <typename TVolume>
 double
 FixAccuracy(const Renderer<TVolume> & renderer, uint64_t views, const std::function<void(uint64_t)> & setView)
@@ -66,42 +68,48 @@ FixAccuracy(const Renderer<TVolume> & renderer, uint64_t views, const std::funct
   points.SetTargetError(0.0); // the probes measure the kept points alone
   points.SetControlVariateFactor(chosen.ControlVariateFactor);
   points.SetNumberOfSamples(std::max<uint64_t>(chosen.NumberOfSamples / 4, 4096));
-  double largest = 0.0;
-  double previous = 0.0; // the largest estimate of the draw before, and its points
-  double previousPoints = 0.0;
+  double                  largest = 0.0;
+  double                  largestCoarse = 0.0;   // the largest part of an estimate that is the coarse image's
+  double                  coarseOfLargest = 0.0; // that part of the largest estimate
+  itk::DRRRefinementTrend trend;                 // of the largest estimate of each draw
   for (unsigned int draw = 0; draw < 4; ++draw)
   {
     largest = 0.0;
+    largestCoarse = 0.0;
     for (uint64_t p = 0; p < probes; ++p)
     {
       setView(p * views / probes);
       renderer.Filter->Update();
-      largest = std::max(largest, points.GetEstimatedError());
+      if (points.GetEstimatedError() > largest)
+      {
+        largest = points.GetEstimatedError();
+        coarseOfLargest = points.GetCoarseImageError();
+      }
+      largestCoarse = std::max(largestCoarse, points.GetCoarseImageError());
     }
     if (largest <= target && draw > 0)
     {
       break;
     }
-    const double drawn = static_cast<double>(points.GetNumberOfSamples());
-    const double expected = previous * std::sqrt(previousPoints / drawn); // as 1 / sqrt(points)
-    if (draw > 0 && drawn >= 2.0 * previousPoints && largest - expected > 0.5 * (previous - expected))
+    // The probe draw (a quarter) sets the number; a draw of all that still misses is raised the same way.
+    const double more = itk::DRRRefinementTrend::GetGrowthToTarget(largest, coarseOfLargest, target);
+    if (trend.AddEstimate(static_cast<double>(points.GetNumberOfSamples()), largest) || !std::isfinite(more))
     {
-      // Stalled, as the filter says of its own points: the control variate's coarse image. The exact rays instead.
+      // Stalled, or the coarse image's rays near the target alone, as the filter says of its own points. The exact
+      // rays instead.
       points.SetTargetError(target);
       points.SetChooseEstimator(true);
       return points.FallBackToExactRays().Error;
     }
-    if (draw == 0 || drawn >= 2.0 * previousPoints)
-    {
-      previous = largest; // judged over a doubling at least: the estimates of few points are noisy
-      previousPoints = drawn;
-    }
-    // The probe draw (a quarter) sets the number; a draw of all that still misses is raised the same way.
-    const double more = 1.1 * (largest / target) * (largest / target);
     points.SetNumberOfSamples(
       static_cast<uint64_t>(std::ceil(more * static_cast<double>(points.GetNumberOfSamples()))));
   }
-  points.SetComputeStandardError(false);
+  // Without a standard error the coarse image traces one replicate of its rays where the probes traced two: its
+  // variance doubles. Kept at two where that would lift the largest estimate over the target (a fine F near 0.25%).
+  if (largest * largest + largestCoarse * largestCoarse <= target * target)
+  {
+    points.SetComputeStandardError(false);
+  }
   return largest;
 }
 
