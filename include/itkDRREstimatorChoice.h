@@ -150,6 +150,13 @@ public:
    * then ExceptionObject says so. */
   Candidate
   Choose(double target, uint64_t poses, bool controlVariate, uint64_t maximumSamples) const;
+  /** Choose() among candidates (ListCandidates()'s, for the same target). */
+  static Candidate
+  Choose(const std::vector<Candidate> & candidates, double target, uint64_t maximumSamples);
+  /** The fastest of candidates whose predicted error is at most target, points of at most maximumSamples, exact rays
+   * only if exactRaysOnly; null if none is. */
+  static const Candidate *
+  FindFastest(const std::vector<Candidate> & candidates, double target, uint64_t maximumSamples, bool exactRaysOnly);
 
   /** The predicted relative error of the exact rays, k x k per pixel (k one of ExactRaysPerSide). */
   double
@@ -187,10 +194,16 @@ public:
   /** Cells an exact ray crosses, and its reads of the volume that miss the cache (CostModel::RayNanoseconds), the
    * means over the pilot's rays and views. */
   double
-  GetMeanCellsPerRay() const;
+  GetMeanCellsPerRay() const
+  {
+    return this->GetMeanOverViews(&ViewPilot::MeanCellsPerRay);
+  }
   /** See GetMeanCellsPerRay(). */
   double
-  GetMeanUnforeseenMissesPerRay() const;
+  GetMeanUnforeseenMissesPerRay() const
+  {
+    return this->GetMeanOverViews(&ViewPilot::MeanUnforeseenMissesPerRay);
+  }
 
   /** The constants of the costs and errors (the defaults of CostModel unless set). */
   void
@@ -218,6 +231,9 @@ private:
     GetExactError(unsigned int raysPerSide) const;
   };
 
+  /** The mean of a count of the views' pilots (0 before Measure()). */
+  double
+  GetMeanOverViews(double ViewPilot::*count) const;
   /** CPU nanoseconds of an exact ray, the mean over the views: cellFraction of the cells (1 / F for a coarse volume),
    * with the cache misses or without (a coarse volume stays in the cache). */
   double

@@ -356,7 +356,7 @@ private:
                  const DRRPointProjection &         projection,
                  MultiThreaderBase *                threader,
                  ProcessObject *                    caller,
-                 DRRPointRenderer::Result &         result) const;
+                 DRRPointRenderer::Result &         result);
 
   class StreamedRender;
 
@@ -386,7 +386,7 @@ private:
   DRRPassCombination m_Passes;
   double             m_TotalMass{ 0.0 };
   double             m_EstimatedError{ 0.0 };
-  mutable double     m_CoarseImageError{ 0.0 }; // of the last pass's coarse image (AddCoarseImage())
+  double             m_CoarseImageError{ 0.0 }; // of the last pass's coarse image (AddCoarseImage())
   TimeStamp          m_PassesTime;
   uint64_t           m_RefinementSamples{ 0 };
   // The estimator chosen for a target: the pilot, its choice, and what it was made for (kept points keep it).

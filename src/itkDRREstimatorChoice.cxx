@@ -248,23 +248,12 @@ DRREstimatorChoice::GetRayNanoseconds(double cellFraction, bool withMisses) cons
 }
 
 double
-DRREstimatorChoice::GetMeanCellsPerRay() const
+DRREstimatorChoice::GetMeanOverViews(double ViewPilot::*count) const
 {
   double sum = 0.0;
   for (const ViewPilot & view : m_Views)
   {
-    sum += view.MeanCellsPerRay;
-  }
-  return m_Views.empty() ? 0.0 : sum / static_cast<double>(m_Views.size());
-}
-
-double
-DRREstimatorChoice::GetMeanUnforeseenMissesPerRay() const
-{
-  double sum = 0.0;
-  for (const ViewPilot & view : m_Views)
-  {
-    sum += view.MeanUnforeseenMissesPerRay;
+    sum += view.*count;
   }
   return m_Views.empty() ? 0.0 : sum / static_cast<double>(m_Views.size());
 }
@@ -337,23 +326,43 @@ DRREstimatorChoice::ListCandidates(double target, uint64_t poses, bool controlVa
 DRREstimatorChoice::Candidate
 DRREstimatorChoice::Choose(double target, uint64_t poses, bool controlVariate, uint64_t maximumSamples) const
 {
+  return Choose(this->ListCandidates(target, poses, controlVariate), target, maximumSamples);
+}
+
+DRREstimatorChoice::Candidate
+DRREstimatorChoice::Choose(const std::vector<Candidate> & candidates, double target, uint64_t maximumSamples)
+{
+  const Candidate * fastest = FindFastest(candidates, target, maximumSamples, false);
+  if (!fastest)
+  {
+    // The exact candidates are listed first, 16 x 16 rays last of them: the least error any of them reaches.
+    const auto finest = std::find_if(candidates.rbegin(), candidates.rend(), [](const Candidate & candidate) {
+      return candidate.Kind == Estimator::ExactRays;
+    });
+    itkGenericExceptionMacro("DRREstimatorChoice: no estimator is predicted to reach the target error "
+                             << target << ": " << ExactRaysPerSide[4] << " x " << ExactRaysPerSide[4]
+                             << " exact rays per pixel reach " << (finest != candidates.rend() ? finest->Error : 0.0)
+                             << ", and points would need more than " << maximumSamples);
+  }
+  return *fastest;
+}
+
+const DRREstimatorChoice::Candidate *
+DRREstimatorChoice::FindFastest(const std::vector<Candidate> & candidates,
+                                double                         target,
+                                uint64_t                       maximumSamples,
+                                bool                           exactRaysOnly)
+{
   const Candidate * fastest = nullptr;
-  const auto        candidates = this->ListCandidates(target, poses, controlVariate);
   for (const Candidate & candidate : candidates)
   {
-    const bool withinBudget = candidate.Kind == Estimator::ExactRays || candidate.NumberOfSamples <= maximumSamples;
-    if (candidate.Error <= target && withinBudget && (!fastest || candidate.Seconds < fastest->Seconds))
+    const bool exact = candidate.Kind == Estimator::ExactRays;
+    const bool allowed = exact || (!exactRaysOnly && candidate.NumberOfSamples <= maximumSamples);
+    if (candidate.Error <= target && allowed && (!fastest || candidate.Seconds < fastest->Seconds))
     {
       fastest = &candidate;
     }
   }
-  if (!fastest)
-  {
-    itkGenericExceptionMacro("DRREstimatorChoice: no estimator is predicted to reach the target error "
-                             << target << ": " << ExactRaysPerSide[4] << " x " << ExactRaysPerSide[4]
-                             << " exact rays per pixel reach " << this->GetExactError(ExactRaysPerSide[4])
-                             << ", and points would need more than " << maximumSamples);
-  }
-  return *fastest;
+  return fastest;
 }
 } // namespace itk

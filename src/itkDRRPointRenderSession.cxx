@@ -228,7 +228,7 @@ DRRPointRenderSession::AddCoarseImage(const DRRControlVariate &          control
                                       const DRRPointProjection &         projection,
                                       MultiThreaderBase *                threader,
                                       ProcessObject *                    caller,
-                                      DRRPointRenderer::Result &         result) const
+                                      DRRPointRenderer::Result &         result)
 {
   std::vector<double> pointsVariance(result.StandardError.size());
   std::transform(result.StandardError.begin(), result.StandardError.end(), pointsVariance.begin(), [](double se) {
@@ -242,17 +242,16 @@ DRRPointRenderSession::AddCoarseImage(const DRRControlVariate &          control
                                 caller,
                                 result,
                                 request.ComputeStandardError ? 2u : 1u);
-  // The coarse image's own part of the relative error (DRRPassCombination::ComputeRelativeError()'s measure): what no
-  // number of points lowers.
-  double coarseVariance = 0.0;
+  // The coarse image's own part of the relative error, in the estimate's measure: what no number of points lowers.
+  DRRPassCombination::Estimate coarse;
+  coarse.LineIntegral = result.LineIntegral;
+  coarse.StandardError.resize(pointsVariance.size());
   for (size_t p = 0; p < pointsVariance.size(); ++p)
   {
-    coarseVariance += std::max(0.0, result.StandardError[p] * result.StandardError[p] - pointsVariance[p]);
+    coarse.StandardError[p] =
+      std::sqrt(std::max(0.0, result.StandardError[p] * result.StandardError[p] - pointsVariance[p]));
   }
-  const auto   range = std::minmax_element(result.LineIntegral.begin(), result.LineIntegral.end());
-  const double width = range.first != result.LineIntegral.end() ? *range.second - *range.first : 0.0;
-  m_CoarseImageError =
-    width > 0.0 ? std::sqrt(coarseVariance / static_cast<double>(pointsVariance.size())) / width : 0.0;
+  m_CoarseImageError = DRRPassCombination::ComputeRelativeError(coarse);
 }
 
 DRRPointRenderer::Result

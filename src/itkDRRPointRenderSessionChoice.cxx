@@ -43,8 +43,8 @@ DRRPointRenderSession::ChooseEstimator(const Request &              request,
 {
   const uint64_t poses = request.GetPosesServed();
   const bool     controlVariate = ControlVariateApplies(request);
-  m_Chosen = pilots.Choose(request.TargetError, poses, controlVariate, request.MaximumNumberOfSamples);
   m_Candidates = pilots.ListCandidates(request.TargetError, poses, controlVariate);
+  m_Chosen = DRREstimatorChoice::Choose(m_Candidates, request.TargetError, request.MaximumNumberOfSamples);
   m_Choice = std::make_unique<DRREstimatorChoice>(pilots);
   m_ChoiceMadeFor = MakeChoiceKey(request, volume);
   m_ChoiceSettled = false;
@@ -71,15 +71,8 @@ DRRPointRenderSession::FallBackToExactRays(const Request & request)
   {
     itkGenericExceptionMacro("DRRPointRenderSession: FallBackToExactRays() needs ChooseEstimator() first");
   }
-  const DRREstimatorChoice::Candidate * fastest = nullptr;
-  for (const DRREstimatorChoice::Candidate & candidate : m_Candidates)
-  {
-    if (candidate.Kind == DRREstimatorChoice::Estimator::ExactRays && candidate.Error <= request.TargetError &&
-        (!fastest || candidate.Seconds < fastest->Seconds))
-    {
-      fastest = &candidate;
-    }
-  }
+  const DRREstimatorChoice::Candidate * fastest =
+    DRREstimatorChoice::FindFastest(m_Candidates, request.TargetError, 0, true);
   if (!fastest)
   {
     itkGenericExceptionMacro("DRRPointRenderSession: the points' estimate stopped falling above the target error "

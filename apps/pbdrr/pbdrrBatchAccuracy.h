@@ -18,7 +18,8 @@
 #ifndef pbdrrBatchAccuracy_h
 #define pbdrrBatchAccuracy_h
 
-// --accuracy over a batch of views (issue 41): the estimator chosen at view 0, kept points probed over the views.
+// --accuracy over a batch of views (issue 41): the estimator chosen over the pilots of probe views, kept points probed
+// at them.
 
 #include "pbdrrApplication.h"
 #include "itkDRRRefinementTrend.h"
