@@ -434,6 +434,12 @@ public:
    * the block alone are thread-independent. */
   static void
   ParallelizeBlocks(uint64_t numberOfBlocks, const BlockFunctionType & function, MultiThreaderBase * threader);
+  /** ParallelizeBlocks() for tasks that need room of their own (rows read ahead, sums): makeWorker() is called once
+   * per worker, on the worker's thread, and returns the function that worker runs on each block it takes. */
+  static void
+  ParallelizeBlocksPerWorker(uint64_t                                   numberOfBlocks,
+                             const std::function<BlockFunctionType()> & makeWorker,
+                             MultiThreaderBase *                        threader);
 
   /** Index-to-physical mapping: physical = origin + matrix * continuous index (mm). */
   void

@@ -24,6 +24,7 @@
 #include "itkDRRPointRenderer.h"
 #include "PointBasedDRRExport.h"
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -101,6 +102,40 @@ public:
    * residual volume reads the volume's rows: it keeps a reference to it. */
   void
   Build(const DRRAttenuationVolume & volume, unsigned int factor, MultiThreaderBase * threader);
+
+  /** Rows of |r| (1/mm) on the residual's grid (GetResidualVolume()), handed out by Build() while they are in the
+   * cache: the rows y FirstRow .. FirstRow + NumberOfRows - 1 of the planes z FirstPlane .. FirstPlane +
+   * NumberOfPlanes - 1, whole (Width voxels, x from 0), row (y, z) at Mu + Width (y - FirstRow + NumberOfRows
+   * (z - FirstPlane)). FirstRow and FirstPlane are multiples of 8, and so are NumberOfRows and NumberOfPlanes except
+   * at the grid's end: each set of rows is whole bricks of 8 x 8 rows. */
+  struct ResidualRows
+  {
+    uint64_t      FirstRow;       ///< y of the first row
+    uint64_t      FirstPlane;     ///< z of the first row
+    uint64_t      NumberOfRows;   ///< rows per plane
+    uint64_t      NumberOfPlanes; ///< planes
+    uint64_t      Width;          ///< voxels per row: the residual's size along x
+    const float * Mu;             ///< |r| of the rows, 1/mm
+  };
+  /** What Build() calls with each set of the residual's rows, on its threads (several sets at once). */
+  using ResidualRowsFunctionType = std::function<void(const ResidualRows & rows)>;
+
+  /** Build(), handing every row of |r| to visit once, in sets of whole bricks of rows (ResidualRows): a sampler's
+   * tables of the residual (DRRPointSampler::InitializeWithControlVariate()) made in the same pass as the coarse
+   * volume. With F 2, 4, 8 or 16 each of the volume's rows is read once for both, its blocks summed and its residual
+   * taken while it is in the cache; with another F the coarse volume comes first and the residual's rows are then
+   * computed from the volume's again. The coarse volume and the residual are those of Build() without visit, bit for
+   * bit. */
+  void
+  Build(const DRRAttenuationVolume &     volume,
+        unsigned int                     factor,
+        MultiThreaderBase *              threader,
+        const ResidualRowsFunctionType & visit);
+
+  /** The size of the residual's grid (GetResidualVolume()) for a volume of the given size and factor F: the size
+   * padded to a multiple of F per axis. */
+  static DRRAttenuationVolume::SizeType
+  ComputeResidualSize(const DRRAttenuationVolume::SizeType & size, unsigned int factor);
 
   /** The coarsening factor F per axis (0 before Build()). */
   itkGetConstMacro(Factor, unsigned int);
@@ -192,6 +227,15 @@ protected:
 private:
   void
   BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiThreaderBase * threader);
+  /** The coarse volume, and the residual's rows handed to visit, from one read of the volume's rows in sets of
+   * max(8, F) x max(8, F) rows: for F 2, 4, 8 and 16, whose blocks fit in such sets. */
+  void
+  BuildInSetsOfRows(const DRRAttenuationVolume &     volume,
+                    MultiThreaderBase *              threader,
+                    const ResidualRowsFunctionType & visit);
+  /** Hands the residual's rows, computed from the residual volume, to visit in sets of 8 x 8 rows. */
+  void
+  VisitResidualRows(MultiThreaderBase * threader, const ResidualRowsFunctionType & visit) const;
   /** The coarse volume's index-to-physical matrix and origin for the fine grid of volume. */
   void
   SetCoarseGrid(const DRRAttenuationVolume & volume);

@@ -334,6 +334,9 @@ private:
                         MultiThreaderBase *          threader);
   void
   InitializeSampler(DRRPointSampler & sampler, const DRRAttenuationVolume & sampled);
+  /** Notes the sampler's tables as made now, of sampled. */
+  void
+  NoteTables(const DRRPointSampler & sampler, const DRRAttenuationVolume & sampled);
   const DRRAttenuationVolume &
   GetSampledVolume() const;
 

@@ -31,6 +31,8 @@
 
 namespace itk
 {
+class DRRControlVariate;
+
 /** \class DRRPointSampler
  * \brief Policy that draws the voxels of a point-based DRR, a batch at a time.
  *
@@ -76,6 +78,19 @@ public:
   /** Builds the sampling tables for a volume. The volume must outlive the sampler's use. */
   virtual void
   Initialize(const DRRAttenuationVolume & volume) = 0;
+
+#if !defined(ITK_WRAPPING_PARSER)
+  /** Splits volume with a control variate of factor F (controlVariate.Build()) and builds the sampling tables of its
+   * residual, as Initialize(controlVariate.GetResidualVolume()) builds them. The default does one after the other; a
+   * sampler whose tables are made from the rows of the volume it samples overrides it to make them in the split's own
+   * pass (DRRControlVariate::ResidualRows), one read of the volume instead of two. Not wrapped: the control variate is
+   * the engine's. */
+  virtual void
+  InitializeWithControlVariate(DRRControlVariate &          controlVariate,
+                               const DRRAttenuationVolume & volume,
+                               unsigned int                 factor,
+                               MultiThreaderBase *          threader);
+#endif
 
   /** Total attenuation mass M = sum mu * voxel volume (mm^2) of the volume the sampler was built for. */
   itkGetConstMacro(TotalMass, double);

@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkDRRAttenuationVolume.h"
 #include "itkDRRCompilerSupport.h"
+#include "itkDRRSubtractCoarseRow.h"
 #include "itkPlatformMultiThreader.h"
 #include "vnl/vnl_det.h"
 
@@ -27,79 +28,6 @@
 
 namespace itk
 {
-namespace
-{
-/** out[x] = |out[x] - coarseRow[(first + x) / factor]| for the count fine voxels first .. first + count - 1 of a row,
- * given first's coarse column (first / factor) and its place in it (first % factor). Whole blocks of the usual factors
- * (2, 4, 8) in loops of fixed length, which the compiler vectorizes; else a column counter (no division per voxel).
- *
- * In float: the same bits as the difference in double rounded to float (FillResidualRow()'s r), since rounding to a
- * double (53 bits) and then to a float (24 bits) is rounding to a float once whenever 53 >= 2 * 24 + 2 (Figueroa,
- * "When is double rounding innocuous?", 1995), and |x| is exact. Four floats per instruction instead of two doubles. */
-template <uint64_t TFactor>
-void
-SubtractWholeBlocks(const float * coarse, uint64_t blocks, float * out)
-{
-  for (uint64_t q = 0; q < blocks; ++q)
-  {
-    const float c = coarse[q];
-    for (uint64_t t = 0; t < TFactor; ++t)
-    {
-      out[TFactor * q + t] = std::abs(out[TFactor * q + t] - c);
-    }
-  }
-}
-
-void
-SubtractCoarseRow(const float * coarseRow,
-                  uint64_t      factor,
-                  uint64_t      column,
-                  uint64_t      within,
-                  uint64_t      count,
-                  float *       out)
-{
-  uint64_t   x = 0;
-  const auto subtractOne = [&]() {
-    out[x] = std::abs(out[x] - coarseRow[column]);
-    ++x;
-    if (++within == factor)
-    {
-      within = 0;
-      ++column;
-    }
-  };
-  while (x < count && within != 0)
-  {
-    subtractOne(); // the head of a block begun before the row's first voxel
-  }
-  const uint64_t blocks = (count - x) / factor;
-  bool           whole = true;
-  switch (factor)
-  {
-    case 2:
-      SubtractWholeBlocks<2>(coarseRow + column, blocks, out + x);
-      break;
-    case 4:
-      SubtractWholeBlocks<4>(coarseRow + column, blocks, out + x);
-      break;
-    case 8:
-      SubtractWholeBlocks<8>(coarseRow + column, blocks, out + x);
-      break;
-    default:
-      whole = false; // the counter below takes every voxel
-      break;
-  }
-  if (whole)
-  {
-    x += blocks * factor;
-    column += blocks;
-  }
-  while (x < count)
-  {
-    subtractOne();
-  }
-}
-} // namespace
 
 DRRAttenuationVolume::DRRAttenuationVolume()
 {
@@ -156,6 +84,19 @@ DRRAttenuationVolume::ParallelizeBlocks(uint64_t                  numberOfBlocks
                                         const BlockFunctionType & function,
                                         MultiThreaderBase *       threader)
 {
+  ParallelizeBlocksPerWorker(
+    numberOfBlocks, [&function]() -> BlockFunctionType { return std::cref(function); }, threader);
+}
+
+void
+DRRAttenuationVolume::ParallelizeBlocksPerWorker(uint64_t                                   numberOfBlocks,
+                                                 const std::function<BlockFunctionType()> & makeWorker,
+                                                 MultiThreaderBase *                        threader)
+{
+  if (numberOfBlocks == 0)
+  {
+    return;
+  }
   MultiThreaderBase::Pointer ownThreader;
   if (threader == nullptr)
   {
@@ -172,6 +113,7 @@ DRRAttenuationVolume::ParallelizeBlocks(uint64_t                  numberOfBlocks
   std::atomic<uint64_t> next{ 0 };
   if (workers == 1)
   {
+    const BlockFunctionType function = makeWorker();
     for (uint64_t b = 0; b < numberOfBlocks; ++b)
     {
       function(b);
@@ -182,6 +124,7 @@ DRRAttenuationVolume::ParallelizeBlocks(uint64_t                  numberOfBlocks
     0,
     workers,
     [&](SizeValueType) {
+      const BlockFunctionType function = makeWorker();
       for (uint64_t b = next++; b < numberOfBlocks; b = next++)
       {
         function(b);
@@ -399,13 +342,13 @@ DRRAttenuationVolume::FillMuRowSlow(uint64_t first, uint64_t i, uint64_t j, uint
     }
     std::fill(out + inside, out + count, 0.0f);
     const uint64_t column = this->CoarseIndex(i);
-    SubtractCoarseRow(m_ResidualCoarseMu +
-                        coarseSize[0] * (this->CoarseIndex(j) + coarseSize[1] * this->CoarseIndex(k)),
-                      F,
-                      column,
-                      i - column * F,
-                      count,
-                      out);
+    detail::SubtractCoarseRow(m_ResidualCoarseMu +
+                                coarseSize[0] * (this->CoarseIndex(j) + coarseSize[1] * this->CoarseIndex(k)),
+                              F,
+                              column,
+                              i - column * F,
+                              count,
+                              out);
     return;
   }
   const float * mu = this->GetMuBuffer() + first;
@@ -464,9 +407,14 @@ DRRAttenuationVolume::PrefetchBox(uint64_t i, uint64_t j, uint64_t k, uint64_t n
   {
     for (uint64_t y = 0; y < nj; ++y)
     {
+      // Every cache line of the row: the first, each 64 bytes on, and the last (a short row may end on the next).
       const char * row = base + bytes * (i + m_Size[0] * (j + y + m_Size[1] * (k + z)));
-      PointBasedDRR_PREFETCH(row, 0, 3);
-      PointBasedDRR_PREFETCH(row + bytes * (ni - 1), 0, 3); // a row may end on the next cache line
+      const char * last = row + bytes * (ni - 1);
+      for (const char * line = row; line < last; line += 64)
+      {
+        PointBasedDRR_PREFETCH(line, 0, 3);
+      }
+      PointBasedDRR_PREFETCH(last, 0, 3);
     }
   }
 }

@@ -21,6 +21,9 @@
 #include "itkDRRCompilerSupport.h"
 
 #include <cstdint>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 /** \file itkDRRCompilerBuiltins.h
  * \brief The compiler built-ins only the compiled engine uses (src/, not installed), each with a portable fallback;
@@ -105,6 +108,19 @@ DRRPopCount64(uint64_t bits)
   bits = (bits & 0x3333333333333333ull) + ((bits >> 2) & 0x3333333333333333ull);
   bits = (bits + (bits >> 4)) & 0x0F0F0F0F0F0F0F0Full;
   return static_cast<unsigned int>((bits * 0x0101010101010101ull) >> 56);
+#endif
+}
+
+/** Which of the four floats value[0 .. 3] are positive (bit x: value[x] > 0; NaN is not): one compare of the four and
+ * a move of their signs where SSE2 is there (every x86-64), four compares elsewhere. */
+inline unsigned int
+DRRPositiveMask4(const float * value)
+{
+#if defined(__SSE2__)
+  return static_cast<unsigned int>(_mm_movemask_ps(_mm_cmpgt_ps(_mm_loadu_ps(value), _mm_setzero_ps())));
+#else
+  return unsigned{ value[0] > 0.0f } | unsigned{ value[1] > 0.0f } << 1 | unsigned{ value[2] > 0.0f } << 2 |
+         unsigned{ value[3] > 0.0f } << 3;
 #endif
 }
 } // namespace itk

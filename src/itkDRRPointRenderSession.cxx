@@ -175,8 +175,10 @@ DRRPointRenderSession::PrepareControlVariate(const Request &              reques
   m_Factor = factor;
   if (factor != 0)
   {
+    // The split and the sampler's tables of its residual in one pass over the volume (the tables would be stale).
     m_ControlVariate = DRRControlVariate::New();
-    m_ControlVariate->Build(volume, factor, threader);
+    request.Sampler->InitializeWithControlVariate(*m_ControlVariate, volume, factor, threader);
+    this->NoteTables(*request.Sampler, m_ControlVariate->GetResidualVolume());
   }
 }
 
@@ -194,12 +196,18 @@ DRRPointRenderSession::InitializeSampler(DRRPointSampler & sampler, const DRRAtt
       m_TablesSamplerTime != sampler.GetMTime())
   {
     sampler.Initialize(sampled);
-    m_TablesOf = &sampled;
-    m_TablesOfTime = sampled.GetMTime();
-    m_TablesSampler = &sampler;
-    m_TablesSamplerTime = sampler.GetMTime();
-    m_TablesTime.Modified();
+    this->NoteTables(sampler, sampled);
   }
+}
+
+void
+DRRPointRenderSession::NoteTables(const DRRPointSampler & sampler, const DRRAttenuationVolume & sampled)
+{
+  m_TablesOf = &sampled;
+  m_TablesOfTime = sampled.GetMTime();
+  m_TablesSampler = &sampler;
+  m_TablesSamplerTime = sampler.GetMTime();
+  m_TablesTime.Modified();
 }
 
 void

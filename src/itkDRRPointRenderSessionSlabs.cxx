@@ -227,9 +227,12 @@ private:
     if (m_Factor != 0)
     {
       m_SlabControlVariate = DRRControlVariate::New();
-      m_SlabControlVariate->Build(*m_SlabVolume, m_Factor, m_Threader);
+      m_Sampler->InitializeWithControlVariate(*m_SlabControlVariate, *m_SlabVolume, m_Factor, m_Threader);
     }
-    m_Sampler->Initialize(m_SlabControlVariate ? m_SlabControlVariate->GetResidualVolume() : *m_SlabVolume);
+    else
+    {
+      m_Sampler->Initialize(*m_SlabVolume);
+    }
   }
 
   void

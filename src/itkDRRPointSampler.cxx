@@ -16,9 +16,20 @@
  *
  *=========================================================================*/
 #include "itkDRRPointSampler.h"
+#include "itkDRRControlVariate.h"
 
 namespace itk
 {
+void
+DRRPointSampler::InitializeWithControlVariate(DRRControlVariate &          controlVariate,
+                                              const DRRAttenuationVolume & volume,
+                                              unsigned int                 factor,
+                                              MultiThreaderBase *          threader)
+{
+  controlVariate.Build(volume, factor, threader);
+  this->Initialize(controlVariate.GetResidualVolume());
+}
+
 void
 DRRPointSampler::GenerateBatch(detail::DRRPhiloxRandom &, const SampleRange &, uint64_t *, double *) const
 {

@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRStratifiedSampler.h"
+#include "itkDRRControlVariate.h"
 #include "itkDRRStratifiedSamplerParts.h"
 #include "itkMultiThreaderBase.h"
 
@@ -66,34 +67,54 @@ RankInPlane(uint64_t columns, uint64_t rows)
   return rank;
 }
 
-/** Fills the bricks of the row (by, bz) of Initialize()'s pass: brick bx at plane[rankInPlane[bx]], its place on the
- * curve inside its plane of bricks; FirstVoxel holds the brick's own count of non-air voxels. (A template: the brick
- * is the sampler's private type.) */
-template <typename TBrick>
-void
-BuildBrickRow(const DRRAttenuationVolume & volume,
-              uint64_t                     by,
-              uint64_t                     bz,
-              const uint32_t *             rankInPlane,
-              TBrick *                     plane)
+/** The occupancy bits of four voxels of a brick's row for each of the 16 patterns of which of them are not air (bit x:
+ * voxel x): bit place[x] for voxel x. */
+std::array<uint64_t, 16>
+OccupancyOfPatterns(const uint64_t place[4])
 {
-  const auto &              size = volume.GetSize();
+  std::array<uint64_t, 16> bits{};
+  for (uint64_t pattern = 0; pattern < 16; ++pattern)
+  {
+    for (uint64_t x = 0; x < 4; ++x)
+    {
+      bits[pattern] |= ((pattern >> x) & 1u) << place[x];
+    }
+  }
+  return bits;
+}
+
+/** Fills the bricks of the row (by, bz) of a grid of the given size: brick bx at plane[rankInPlane[bx]], its place on
+ * the curve inside its plane of bricks; FirstVoxel holds the brick's own count of non-air voxels. rowOf(y, z) gives mu
+ * (1/mm) of the whole row (y, z), valid until its next call. (A template: the brick is the sampler's private type.) */
+template <typename TBrick, typename TRowOf>
+void
+BuildBrickRow(const DRRAttenuationVolume::SizeType & size,
+              uint64_t                               by,
+              uint64_t                               bz,
+              const uint32_t *                       rankInPlane,
+              TBrick *                               plane,
+              TRowOf &&                              rowOf)
+{
   const uint64_t            bricks = (size[0] + brickSide - 1) / brickSide;
+  const uint64_t            wholeBricks = size[0] / brickSide;
   const MortonInsideBrick & morton = GetMortonInsideBrick();
   for (uint64_t bx = 0; bx < bricks; ++bx)
   {
     TBrick & brick = plane[rankInPlane[bx]];
-    brick = TBrick{};
+    std::fill(std::begin(brick.Occupancy), std::end(brick.Occupancy), uint64_t{ 0 });
+    std::fill(std::begin(brick.GroupMass), std::end(brick.GroupMass), 0.0);
+    brick.Mass = 0.0;
+    brick.FirstVoxel = 0;
+    brick.LastGroup = 0;
     brick.Origin[0] = static_cast<uint16_t>(bx);
     brick.Origin[1] = static_cast<uint16_t>(by);
     brick.Origin[2] = static_cast<uint16_t>(bz);
   }
-  std::vector<float> line(size[0]);
   for (uint64_t dz = 0; dz < brickSide && bz * brickSide + dz < size[2]; ++dz)
   {
     for (uint64_t dy = 0; dy < brickSide && by * brickSide + dy < size[1]; ++dy)
     {
-      volume.FillMuRow(0, by * brickSide + dy, bz * brickSide + dz, size[0], line.data());
+      const float * line = rowOf(by * brickSide + dy, bz * brickSide + dz);
       // Voxels x and x + 4 of a brick's row have the same place in their groups (the Morton code's low 6 bits), in
       // groups g and g + 1. Air adds a zero bit and a zero mass: no branch on noisy data. Group masses are exact sums
       // (see Brick), so the order of this pass does not matter.
@@ -103,22 +124,33 @@ BuildBrickRow(const DRRAttenuationVolume & volume,
       {
         place[x] = morton.Code[x | dy << 3 | dz << 6] & 63u;
       }
-      for (uint64_t bx = 0; bx < bricks; ++bx)
+      // Whole bricks: four compares make a pattern, one lookup its bits (no shift per voxel).
+      const std::array<uint64_t, 16> occupancy = OccupancyOfPatterns(place);
+      for (uint64_t bx = 0; bx < wholeBricks; ++bx)
       {
-        const float *  mu = line.data() + bx * brickSide;
-        const uint64_t n = std::min(brickSide, size[0] - bx * brickSide);
-        TBrick &       brick = plane[rankInPlane[bx]];
+        const float * mu = line + bx * brickSide;
+        TBrick &      brick = plane[rankInPlane[bx]];
         for (uint64_t half = 0; half < 2; ++half)
         {
-          uint64_t bits = 0;
-          double   mass = brick.GroupMass[group + half];
-          for (uint64_t x = 4 * half; x < std::min<uint64_t>(n, 4 * half + 4); ++x)
-          {
-            bits |= uint64_t{ mu[x] > 0.0f } << place[x & 3u];
-            mass += mu[x];
-          }
-          brick.Occupancy[group + half] |= bits;
+          const float * four = mu + 4 * half;
+          brick.Occupancy[group + half] |= occupancy[DRRPositiveMask4(four)];
+          double mass = brick.GroupMass[group + half];
+          mass += four[0];
+          mass += four[1];
+          mass += four[2];
+          mass += four[3];
           brick.GroupMass[group + half] = mass;
+        }
+      }
+      for (uint64_t bx = wholeBricks; bx < bricks; ++bx)
+      {
+        const float *  mu = line + bx * brickSide;
+        const uint64_t n = size[0] - bx * brickSide;
+        TBrick &       brick = plane[rankInPlane[bx]];
+        for (uint64_t x = 0; x < n; ++x)
+        {
+          brick.Occupancy[group + x / 4] |= uint64_t{ mu[x] > 0.0f } << place[x & 3u];
+          brick.GroupMass[group + x / 4] += mu[x];
         }
       }
     }
@@ -182,50 +214,113 @@ DRRStratifiedSampler::AsViewPlan(const DRRSamplerViewPlan & plan)
   return *own;
 }
 
-void
-DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
+struct DRRStratifiedSampler::BrickGrid
 {
-  const auto & size = volume.GetSize();
+  DRRAttenuationVolume::SizeType Size;
+  std::array<uint64_t, 3>        BricksPerAxis;
+  std::vector<uint32_t>          Rank;   // RankInPlane() of a plane of bricks
+  std::vector<Brick>             Bricks; // planes of bricks in z, each in curve order; becomes m_Bricks
+
+  /** Fills the bricks of row (by, bz) from rowOf(y, z) (BuildBrickRow()). */
+  template <typename TRowOf>
+  void
+  FillBrickRow(uint64_t by, uint64_t bz, TRowOf && rowOf)
+  {
+    BuildBrickRow(Size,
+                  by,
+                  bz,
+                  Rank.data() + by * BricksPerAxis[0],
+                  Bricks.data() + bz * BricksPerAxis[0] * BricksPerAxis[1],
+                  rowOf);
+  }
+};
+
+DRRStratifiedSampler::BrickGrid
+DRRStratifiedSampler::StartTables(const DRRAttenuationVolume::SizeType & size)
+{
   m_Bricks = {}; // the last volume's bricks go before this one's are built
   m_WholeVolumePlan = nullptr;
-  m_Volume = &volume;
-  m_Size = size;
-  m_VoxelVolume = volume.GetVoxelVolume();
-  std::array<uint64_t, 3> bricksPerAxis;
+  m_Volume = nullptr;
+  BrickGrid grid;
+  grid.Size = size;
   for (unsigned int a = 0; a < 3; ++a)
   {
-    bricksPerAxis[a] = (size[a] + brickSide - 1) / brickSide;
-    if (bricksPerAxis[a] > std::numeric_limits<uint16_t>::max())
+    grid.BricksPerAxis[a] = (size[a] + brickSide - 1) / brickSide;
+    if (grid.BricksPerAxis[a] > std::numeric_limits<uint16_t>::max())
     {
       itkExceptionMacro("volumes of more than " << std::numeric_limits<uint16_t>::max() * brickSide
                                                 << " voxels along an axis are not supported (got " << size[a] << ")");
     }
   }
+  // Every brick written straight to its place on the curve (planes of bricks in z, each in the Morton order of
+  // RankInPlane()): no sort of the bricks and no second array of them.
+  grid.Rank = RankInPlane(grid.BricksPerAxis[0], grid.BricksPerAxis[1]);
+  grid.Bricks.resize(grid.BricksPerAxis[0] * grid.BricksPerAxis[1] * grid.BricksPerAxis[2]);
+  return grid;
+}
 
-  // One pass, one row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy, group masses and each
-  // brick's sums, every brick written straight to its place on the curve (planes of bricks in z, each in the Morton
-  // order of RankInPlane()): no sort of the bricks and no second array of them. The sampler keeps no mu: the walk
-  // reads a group's voxels from the volume when it reaches it (FillGroupMu()).
-  const uint64_t              numberOfBrickRows = bricksPerAxis[1] * bricksPerAxis[2];
-  const uint64_t              bricksPerPlane = bricksPerAxis[0] * bricksPerAxis[1];
-  const std::vector<uint32_t> rank = RankInPlane(bricksPerAxis[0], bricksPerAxis[1]);
-  std::vector<Brick>          grid(bricksPerPlane * bricksPerAxis[2]); // becomes m_Bricks: the bricks are held once
-  DRRAttenuationVolume::ParallelizeBlocks(
-    numberOfBrickRows,
-    [&](uint64_t brickRow) {
-      const uint64_t by = brickRow % bricksPerAxis[1];
-      const uint64_t bz = brickRow / bricksPerAxis[1];
-      BuildBrickRow(volume, by, bz, rank.data() + by * bricksPerAxis[0], grid.data() + bz * bricksPerPlane);
-    },
-    nullptr);
+void
+DRRStratifiedSampler::FinishTables(BrickGrid & grid, const DRRAttenuationVolume & volume)
+{
+  if (volume.GetSize() != grid.Size)
+  {
+    itkExceptionMacro("the tables were made for a grid of " << grid.Size[0] << " x " << grid.Size[1] << " x "
+                                                            << grid.Size[2] << " voxels, not the volume's");
+  }
+  m_Volume = &volume;
+  m_Size = grid.Size;
+  m_VoxelVolume = volume.GetVoxelVolume();
   double totalMass = 0.0;
-  KeepNonEmptyBricks(grid, m_NumberOfNonAirVoxels, totalMass);
-  m_Bricks = std::move(grid);
+  KeepNonEmptyBricks(grid.Bricks, m_NumberOfNonAirVoxels, totalMass);
+  m_Bricks = std::move(grid.Bricks);
   m_TotalMass = totalMass * m_VoxelVolume;
   m_MaximumWeight = 1.0;
   m_WholeVolumePlan =
     std::static_pointer_cast<const ViewPlan>(this->MakeSlabViewPlan(nullptr, 0.0, 0.0, SlabPlacement()));
   this->Modified();
+}
+
+void
+DRRStratifiedSampler::Initialize(const DRRAttenuationVolume & volume)
+{
+  // One row of bricks (fixed y and z) per block, reading whole voxel rows: occupancy, group masses and each brick's
+  // sums. The sampler keeps no mu: the walk reads a group's voxels from the volume when it reaches it (FillGroupMu()).
+  BrickGrid      grid = this->StartTables(volume.GetSize());
+  const uint64_t rowsAlongY = grid.BricksPerAxis[1];
+  DRRAttenuationVolume::ParallelizeBlocks(
+    rowsAlongY * grid.BricksPerAxis[2],
+    [&](uint64_t brickRow) {
+      std::vector<float> line(grid.Size[0]);
+      grid.FillBrickRow(brickRow % rowsAlongY, brickRow / rowsAlongY, [&](uint64_t y, uint64_t z) {
+        volume.FillMuRow(0, y, z, grid.Size[0], line.data());
+        return line.data();
+      });
+    },
+    nullptr);
+  this->FinishTables(grid, volume);
+}
+
+void
+DRRStratifiedSampler::InitializeWithControlVariate(DRRControlVariate &          controlVariate,
+                                                   const DRRAttenuationVolume & volume,
+                                                   unsigned int                 factor,
+                                                   MultiThreaderBase *          threader)
+{
+  // The residual's rows come in sets of whole rows of bricks, each set once: its bricks are filled as Initialize()
+  // fills them, from the rows the split has just computed.
+  BrickGrid grid = this->StartTables(DRRControlVariate::ComputeResidualSize(volume.GetSize(), factor));
+  controlVariate.Build(volume, factor, threader, [&grid](const DRRControlVariate::ResidualRows & rows) {
+    for (uint64_t bz = rows.FirstPlane / brickSide; bz * brickSide < rows.FirstPlane + rows.NumberOfPlanes; ++bz)
+    {
+      for (uint64_t by = rows.FirstRow / brickSide; by * brickSide < rows.FirstRow + rows.NumberOfRows; ++by)
+      {
+        grid.FillBrickRow(by, bz, [&rows](uint64_t y, uint64_t z) {
+          return rows.Mu + rows.Width * (y - rows.FirstRow + rows.NumberOfRows * (z - rows.FirstPlane));
+        });
+      }
+    }
+  });
+  this->FinishTables(grid, controlVariate.GetResidualVolume());
 }
 
 const float *

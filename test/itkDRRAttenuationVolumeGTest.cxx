@@ -22,12 +22,15 @@
 #include "itkDRRStratifiedSampler.h"
 #include "itkDRRTransferFunction.h"
 #include "itkImportImageContainer.h"
+#include "itkPlatformMultiThreader.h"
 
 #include "gtest/gtest.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <mutex>
 #include <random>
 #include <string>
 #include <vector>
@@ -521,5 +524,120 @@ TEST(DRRStratifiedSampler, BrickSumsEqualADirectSumOverEveryBrick)
       EXPECT_EQ(brick.NonAirVoxels, occupied[index]) << context << ", brick " << b;
     }
     EXPECT_NEAR(sampler->GetTotalMass(), total * sampled->GetVoxelVolume(), 1e-12 * total) << context;
+  }
+}
+
+namespace
+{
+/** numberOfSamples points (a multiple of 4) drawn by a stratified sampler from the whole of the volume it was
+ * initialized with: (i, j, k) of each, then its weight's bits, in one vector. */
+std::vector<uint64_t>
+DrawWholeVolume(const itk::DRRStratifiedSampler & sampler, const itk::DRRAttenuationVolume & volume, uint64_t count)
+{
+  const auto                            plan = sampler.MakeViewPlan(volume, nullptr, 0.0, 0.0);
+  const uint64_t                        room = count + itk::DRRPointSampler::CoordinateSlack;
+  std::vector<uint32_t>                 i(room), j(room), k(room), stratum(room), jx(room), jy(room), jz(room);
+  std::vector<double>                   weight(room);
+  std::vector<uint64_t>                 voxel(room);
+  itk::DRRPointSampler::SampleRange     range;
+  itk::DRRPointSampler::Cursor          cursor;
+  itk::DRRPointSampler::CoordinateBatch batch{ i.data(),  j.data(),  k.data(),  weight.data(), stratum.data(),
+                                               jx.data(), jy.data(), jz.data(), voxel.data() };
+  itk::detail::DRRPhiloxRandom          random(7, 0, 0);
+  range.Seed = 7;
+  range.Count = count;
+  range.StratumSize = count;
+  range.NumberOfStrata = 4;
+  sampler.GenerateCoordinates(*plan, random, range, cursor, batch);
+  std::vector<uint64_t> drawn;
+  for (uint64_t s = 0; s < count; ++s)
+  {
+    uint64_t bits;
+    std::memcpy(&bits, &weight[s], sizeof(bits));
+    drawn.insert(drawn.end(), { i[s], j[s], k[s], bits });
+  }
+  return drawn;
+}
+} // namespace
+
+// The split and the sampler's tables made in one pass (InitializeWithControlVariate(), what the filter does) are those
+// made one after the other, bit for bit: the coarse volume, every brick, the mass and the points drawn; for the
+// factors of the one pass (2, 4, 8, 16), for one that falls back to two (3), on 1 and 3 threads, on a grid that no
+// factor and no brick divides. Build() hands each of the residual's rows once, equal to the residual volume's row.
+TEST(DRRControlVariate, OnePassGivesTheSplitAndTheTablesOfOneAfterTheOther)
+{
+  const itk::DRRAttenuationVolume::SizeType size{ { 45, 38, 21 } };
+  const std::vector<int16_t>                values = RandomHU(size, -1300, 1800, 11); // a third of the voxels air
+  const auto                                volume = BuildInPlace(values, size);
+  for (const unsigned int threads : { 1u, 3u })
+  {
+    auto threader = itk::PlatformMultiThreader::New();
+    threader->SetNumberOfWorkUnits(threads);
+    threader->SetMaximumNumberOfThreads(threads);
+    for (const unsigned int factor : { 2u, 3u, 4u, 8u, 16u })
+    {
+      const std::string context = "F " + std::to_string(factor) + ", " + std::to_string(threads) + " threads";
+      auto              apart = itk::DRRControlVariate::New();
+      apart->Build(*volume, factor, threader);
+      auto tablesApart = itk::DRRStratifiedSampler::New();
+      tablesApart->Initialize(apart->GetResidualVolume());
+      auto together = itk::DRRControlVariate::New();
+      auto tablesTogether = itk::DRRStratifiedSampler::New();
+      tablesTogether->InitializeWithControlVariate(*together, *volume, factor, threader);
+
+      const auto & coarse = together->GetCoarseVolume();
+      ASSERT_EQ(coarse.GetSize(), apart->GetCoarseVolume().GetSize()) << context;
+      EXPECT_EQ(std::memcmp(coarse.GetMuBuffer(),
+                            apart->GetCoarseVolume().GetMuBuffer(),
+                            sizeof(float) * coarse.GetNumberOfVoxels()),
+                0)
+        << context;
+      ASSERT_EQ(together->GetResidualVolume().GetSize(), apart->GetResidualVolume().GetSize()) << context;
+      EXPECT_EQ(together->GetResidualVolume().GetSize(), itk::DRRControlVariate::ComputeResidualSize(size, factor))
+        << context;
+      EXPECT_EQ(together->GetTotalMass(), apart->GetTotalMass()) << context;
+      ASSERT_EQ(tablesTogether->GetNumberOfBricks(), tablesApart->GetNumberOfBricks()) << context;
+      for (size_t b = 0; b < tablesApart->GetNumberOfBricks(); ++b)
+      {
+        const auto one = tablesTogether->GetBrickSummary(b);
+        const auto two = tablesApart->GetBrickSummary(b);
+        EXPECT_TRUE(one.Origin[0] == two.Origin[0] && one.Origin[1] == two.Origin[1] && one.Origin[2] == two.Origin[2])
+          << context << ", brick " << b;
+        EXPECT_EQ(one.MuSum, two.MuSum) << context << ", brick " << b;
+        EXPECT_EQ(one.NonAirVoxels, two.NonAirVoxels) << context << ", brick " << b;
+      }
+      EXPECT_EQ(tablesTogether->GetTotalMass(), tablesApart->GetTotalMass()) << context;
+      EXPECT_EQ(DrawWholeVolume(*tablesTogether, together->GetResidualVolume(), 4096),
+                DrawWholeVolume(*tablesApart, apart->GetResidualVolume(), 4096))
+        << context;
+
+      // The rows handed out: each once, in sets of whole bricks, equal to the residual volume's.
+      const auto &          residual = apart->GetResidualVolume();
+      const auto &          grid = residual.GetSize();
+      std::vector<uint32_t> handed(grid[1] * grid[2], 0);
+      std::vector<float>    expected(grid[0]);
+      std::mutex            mutex;
+      auto                  visited = itk::DRRControlVariate::New();
+      visited->Build(*volume, factor, threader, [&](const itk::DRRControlVariate::ResidualRows & rows) {
+        std::lock_guard<std::mutex> lock(mutex);
+        EXPECT_EQ(rows.Width, grid[0]) << context;
+        EXPECT_TRUE(rows.FirstRow % 8 == 0 && rows.FirstPlane % 8 == 0) << context;
+        EXPECT_TRUE((rows.NumberOfRows % 8 == 0 || rows.FirstRow + rows.NumberOfRows == grid[1]) &&
+                    (rows.NumberOfPlanes % 8 == 0 || rows.FirstPlane + rows.NumberOfPlanes == grid[2]))
+          << context;
+        for (uint64_t z = rows.FirstPlane; z < rows.FirstPlane + rows.NumberOfPlanes && z < grid[2]; ++z)
+        {
+          for (uint64_t y = rows.FirstRow; y < rows.FirstRow + rows.NumberOfRows && y < grid[1]; ++y)
+          {
+            ++handed[y + grid[1] * z];
+            residual.FillMuRow(0, y, z, grid[0], expected.data());
+            const float * row = rows.Mu + rows.Width * (y - rows.FirstRow + rows.NumberOfRows * (z - rows.FirstPlane));
+            EXPECT_EQ(std::memcmp(row, expected.data(), sizeof(float) * grid[0]), 0)
+              << context << ", row y " << y << ", z " << z;
+          }
+        }
+      });
+      EXPECT_EQ(std::count(handed.begin(), handed.end(), 1u), static_cast<std::ptrdiff_t>(handed.size())) << context;
+    }
   }
 }
