@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkDRRControlVariate.h"
+#include "itkDRRCompilerBuiltins.h"
 #include "itkDRRExactRayIntegrator.h"
 #include "itkDRRSubtractCoarseRow.h"
 
@@ -42,8 +43,11 @@ AddWholeBlockSums(const float * row, uint64_t blocks, double * sum)
   }
 }
 
-void
-AddBlockSums(const float * row, uint64_t width, uint64_t factor, double * sum)
+PointBasedDRR_VECTOR_CLONES void
+AddBlockSums(const float * PointBasedDRR_RESTRICT row,
+             uint64_t                             width,
+             uint64_t                             factor,
+             double * PointBasedDRR_RESTRICT      sum)
 {
   // The usual factors in loops of fixed length; the last block, and other factors, voxel by voxel.
   uint64_t whole = width / factor;
