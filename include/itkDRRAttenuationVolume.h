@@ -510,6 +510,14 @@ private:
   template <typename TValue>
   bool
   CountIntegerKeys(const TValue * values, double offset, KeyCounts & counts, MultiThreaderBase * threader) const;
+  /** CountIntegerKeys() of integer values (at most 32 bits) from an integer offset: each block's keys bounded by its
+   * extremes. */
+  template <typename TValue>
+  bool
+  CountIntegerKeysInRange(const TValue *      values,
+                          int64_t             offset,
+                          KeyCounts &         counts,
+                          MultiThreaderBase * threader) const;
   template <typename TValue>
   void
   BuildLevels(const TValue * values, double offset, KeyCounts && counts, const DRRTransferFunction & transfer);

@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <limits>
 #include <type_traits>
 
@@ -236,6 +237,10 @@ DRRAttenuationVolume::CountIntegerKeys(const TValue *      values,
   const uint64_t numberOfBlocks = this->GetNumberOfBlocks();
   counts.Lowest.assign(numberOfBlocks, 0);
   counts.Counts.assign(numberOfBlocks, {});
+  if constexpr (std::is_integral<TValue>::value && sizeof(TValue) <= 4)
+  {
+    return this->CountIntegerKeysInRange(values, static_cast<int64_t>(offset), counts, threader);
+  }
   std::atomic<bool>                                       failed{ false };
   const DRRAttenuationVolumeDetail::IntegerKeyMap<TValue> keyOf(offset);
   ParallelizeBlocks(
@@ -292,6 +297,79 @@ DRRAttenuationVolume::CountIntegerKeys(const TValue *      values,
       const auto last = std::find_if(histogram.rbegin(), histogram.rend(), [](uint32_t c) { return c != 0; }).base();
       counts.Lowest[b] = static_cast<uint32_t>(first - histogram.begin());
       counts.Counts[b].assign(first, last);
+    },
+    threader);
+  return !failed;
+}
+
+template <typename TValue>
+bool
+DRRAttenuationVolume::CountIntegerKeysInRange(const TValue *      values,
+                                              int64_t             offset,
+                                              KeyCounts &         counts,
+                                              MultiThreaderBase * threader) const
+{
+  std::atomic<bool> failed{ false };
+  ParallelizeBlocksPerWorker(
+    this->GetNumberOfBlocks(),
+    [&]() -> BlockFunctionType {
+      // The worker's four histograms of the block's range of values, reused from block to block.
+      auto histogram = std::make_shared<std::vector<uint32_t>>();
+      return [&, histogram](uint64_t b) {
+        const TValue * begin = values + this->GetBlockBegin(b);
+        const TValue * end = values + this->GetBlockBegin(b + 1);
+        if (begin == end)
+        {
+          counts.Lowest[b] = DRRAttenuationVolumeDetail::MaximumKey + 1; // no key, as the other path counts none
+          return;
+        }
+        if (failed.load(std::memory_order_relaxed))
+        {
+          return;
+        }
+        // Every value is an integer: the block's extremes (one pass in vectors, the block then in the cache) say
+        // whether all its keys are in range, and bound the histograms to the values present, a few thousand in a CT.
+        const uint64_t n = static_cast<uint64_t>(end - begin);
+        TValue         smallest = begin[0];
+        TValue         largest = begin[0];
+        for (uint64_t v = 0; v < n; ++v)
+        {
+          smallest = begin[v] < smallest ? begin[v] : smallest;
+          largest = begin[v] > largest ? begin[v] : largest;
+        }
+        const int64_t lowest = static_cast<int64_t>(smallest);
+        const int64_t span = static_cast<int64_t>(largest) - lowest + 1;
+        if (lowest - offset < 0 || lowest - offset + span - 1 > DRRAttenuationVolumeDetail::MaximumKey)
+        {
+          failed = true;
+          return;
+        }
+        // Runs of one value (air) make each increment wait for the last: the voxels count into four histograms in
+        // turn, so that four increments are under way at once, then the four are added.
+        histogram->assign(4 * static_cast<uint64_t>(span), 0);
+        uint32_t * const way[4] = {
+          histogram->data(), histogram->data() + span, histogram->data() + 2 * span, histogram->data() + 3 * span
+        };
+        uint64_t v = 0;
+        for (; v + 4 <= n; v += 4)
+        {
+          for (unsigned int w = 0; w < 4; ++w)
+          {
+            ++way[w][static_cast<int64_t>(begin[v + w]) - lowest];
+          }
+        }
+        for (; v < n; ++v)
+        {
+          ++way[0][static_cast<int64_t>(begin[v]) - lowest];
+        }
+        std::vector<uint32_t> & blockCounts = counts.Counts[b];
+        blockCounts.resize(static_cast<uint64_t>(span));
+        for (int64_t key = 0; key < span; ++key)
+        {
+          blockCounts[key] = way[0][key] + way[1][key] + way[2][key] + way[3][key];
+        }
+        counts.Lowest[b] = static_cast<uint32_t>(lowest - offset); // both extremes are present: no zero at the ends
+      };
     },
     threader);
   return !failed;

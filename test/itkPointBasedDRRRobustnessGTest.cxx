@@ -1755,6 +1755,14 @@ TEST(PointBasedDRRPreprocessing, SameBitsOnAnyThreadsAndMuOfEveryVoxelFromTheTra
   const auto wide =
     MakeBlockyVolume<IntVolumeType>([](uint64_t v) { return 40000 + static_cast<int>(Hash(v) % 20000); });
   ExpectReproduciblePreprocessing(wide.GetPointer(), Transfer{}, true, "int beyond int16");
+  // One below int16 at the smallest: not keyed from -32768 (that key would be -1), but from the smallest value (a
+  // transfer function that makes them tissue).
+  const auto below =
+    MakeBlockyVolume<IntVolumeType>([](uint64_t v) { return -32769 + static_cast<int>(Hash(v) % 3000); });
+  ExpectReproduciblePreprocessing(below.GetPointer(),
+                                  Transfer{ TransferEnum::PiecewiseLinear, { { -32769.0, 0.01 }, { -29770.0, 0.03 } } },
+                                  true,
+                                  "int from one below int16");
 
   // Spanning more than 2^16, or not integers (a fraction of 1/1024 on one voxel is enough): mu per voxel, binned by
   // the level samplers.
