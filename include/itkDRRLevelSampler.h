@@ -71,6 +71,17 @@ protected:
     m_MaximumWeight = m_Levels.GetMaximumCorrection();
   }
 
+  /** Throws for a batch of samples from a volume with no level: all air, nothing to draw (a draw would read tables
+   * that are not there). The filters render such a volume as an empty image without drawing. */
+  void
+  RequireLevels(const SampleRange & range) const
+  {
+    if (range.Count > 0 && m_Levels.GetNumberOfLevels() == 0)
+    {
+      itkExceptionMacro("no voxel to draw: the volume the sampler was initialized with is all air (M = 0 mm^2)");
+    }
+  }
+
   void
   PrintSelf(std::ostream & os, Indent indent) const override
   {

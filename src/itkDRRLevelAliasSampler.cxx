@@ -38,6 +38,7 @@ DRRLevelAliasSampler::GenerateBatch(detail::DRRPhiloxRandom & random,
                                     uint64_t *                voxelIndex,
                                     double *                  weight) const
 {
+  this->RequireLevels(range);
   // Blocks of samples in two passes: draw every level and rank, prefetching the list entry, then read the entries.
   // The random reads of a block then overlap instead of waiting one after another (same draws, same results).
   constexpr uint64_t block = 64;

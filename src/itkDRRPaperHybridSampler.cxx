@@ -95,6 +95,7 @@ DRRPaperHybridSampler::GenerateBatch(detail::DRRPhiloxRandom & random,
                                      uint64_t *                voxelIndex,
                                      double *                  weight) const
 {
+  this->RequireLevels(range);
   const uint64_t count = range.Count;
   const uint32_t levels = static_cast<uint32_t>(m_Levels.GetNumberOfLevels());
   for (uint64_t i = 0; i < count; ++i)

@@ -809,6 +809,22 @@ TEST(PointBasedDRRExtremes, AllAirIsExactlyZero)
   {
     ASSERT_EQ(value, 0.0f);
   }
+  // The filters draw nothing from such a model; a level sampler asked for a batch of it directly refuses, instead of
+  // reading tables that are not there.
+  for (const std::string name : { "level-alias", "paper-hybrid" })
+  {
+    auto sampler = itk::DRRSamplerFactory::Create(name);
+    sampler->Initialize(*drr->GetAttenuationVolume());
+    uint64_t                          voxel[16];
+    double                            weight[16];
+    itk::DRRPointSampler::SampleRange range;
+    range.Count = 16;
+    range.StratumSize = 16;
+    itk::detail::DRRPhiloxRandom random(1, 0, 0);
+    EXPECT_NE(ExceptionMessage([&] { sampler->GenerateBatch(random, range, voxel, weight); }, name).find("all air"),
+              std::string::npos)
+      << name;
+  }
 }
 
 TEST(PointBasedDRRExtremes, SingleVoxelMatchesExactProjector)
