@@ -25,9 +25,11 @@
 //   PointBasedDRRPoseRate INPUT [--sizes 128,256] [--field-mm 614.4] [--samples 1e6,3e6,1e7] [--poses 20]
 //                         [--error-poses 3] [--reference-rays 4] [--sampler stratified] [--splat bilinear]
 //                         [--kernel box] [--gantry 90] [--ray-caster-poses 3] [--control-variate 0,2,8]
-//                         [--markdown FILE]
+//                         [--markdown FILE] [--no-standard-error]
 // --control-variate: coarsening factors F of the control variate, 0 for off (default 0): the residual's points are
 // kept, the coarse image is traced again at every pose (DESIGN 10).
+// --no-standard-error: render without the standard-error image, as a registration's metric does (the coarse image is
+// then one replicate of rays per pixel, not two).
 #include "itkPointBasedDRRImageFilter.h"
 #include "itkExactDRRImageFilter.h"
 #include "itkDRRSamplerFactory.h"
@@ -72,7 +74,8 @@ struct Options
   SplatEnum             Splat{ SplatEnum::Bilinear };
   KernelEnum            Kernel{ KernelEnum::Box };
   double                Gantry{ 90.0 };
-  std::vector<unsigned> ControlVariates{ 0 }; // coarsening factors F (0: off), each a row per size and samples
+  std::vector<unsigned> ControlVariates{ 0 };  // coarsening factors F (0: off), each a row per size and samples
+  bool                  StandardError{ true }; // off: what a registration's metric renders (no error image)
 };
 
 Options
@@ -125,6 +128,8 @@ Parse(int argc, char * argv[])
     }
     else if (arg == "--markdown")
       options.Markdown = value();
+    else if (arg == "--no-standard-error")
+      options.StandardError = false;
     else if (!arg.empty() && arg[0] == '-')
       throw std::runtime_error("unknown option " + arg);
     else
@@ -284,6 +289,7 @@ private:
     drr->SetSeed(1);
     drr->SetReusePoints(true);
     drr->SetControlVariateFactor(controlVariate);
+    drr->SetComputeStandardError(m_Options.StandardError);
     drr->PrepareSampling(); // tables: once per volume, not part of the per-pose cost
     auto transform = this->MakeTransform(m_Poses[0]);
     drr->SetTransform(transform);
