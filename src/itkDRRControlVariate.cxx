@@ -116,6 +116,29 @@ MeansOfSmallBlocks(const float * const *          rows,
     MeansOfWholeBlocks<4>(rows, blocks, inverseBlockVolume, means);
   }
 }
+
+/** The sets of side x side rows that cover a grid's rows. */
+uint64_t
+CountSetsOfRows(uint64_t side, const DRRAttenuationVolume::SizeType & grid)
+{
+  return ((grid[1] + side - 1) / side) * ((grid[2] + side - 1) / side);
+}
+
+/** Where set `set` of side x side rows lies in a grid (sets numbered along y first, then z; the last ones clipped to
+ * the grid), with no rows yet. */
+DRRControlVariate::ResidualRows
+SetOfRows(uint64_t set, uint64_t side, const DRRAttenuationVolume::SizeType & grid)
+{
+  const uint64_t                  setsAlongY = (grid[1] + side - 1) / side;
+  DRRControlVariate::ResidualRows rows;
+  rows.FirstRow = set % setsAlongY * side;
+  rows.FirstPlane = set / setsAlongY * side;
+  rows.NumberOfRows = std::min(side, grid[1] - rows.FirstRow);
+  rows.NumberOfPlanes = std::min(side, grid[2] - rows.FirstPlane);
+  rows.Width = grid[0];
+  rows.Mu = nullptr;
+  return rows;
+}
 } // namespace
 
 DRRControlVariate::DRRControlVariate()
@@ -191,8 +214,7 @@ DRRControlVariate::BuildInSetsOfRows(const DRRAttenuationVolume &     volume,
   }
   // Sets of side x side rows, side a multiple of F and of the bricks' 8: each holds whole blocks and whole bricks.
   const uint64_t           side = std::max<uint64_t>(8, F);
-  const uint64_t           setsAlongY = (padded[1] + side - 1) / side;
-  const uint64_t           numberOfSets = setsAlongY * ((padded[2] + side - 1) / side);
+  const uint64_t           numberOfSets = CountSetsOfRows(side, padded);
   const double             inverseBlockVolume = 1.0 / static_cast<double>(F * F * F);
   std::unique_ptr<float[]> coarseMu(new float[coarse[0] * coarse[1] * coarse[2]]);
   float *                  coarseOut = coarseMu.get();
@@ -203,13 +225,8 @@ DRRControlVariate::BuildInSetsOfRows(const DRRAttenuationVolume &     volume,
       auto rows = std::make_shared<std::vector<float>>(side * side * padded[0]);
       auto sum = std::make_shared<std::vector<double>>(coarse[0]);
       return [&, rows, sum](uint64_t set) {
-        ResidualRows residual;
-        residual.FirstRow = set % setsAlongY * side;
-        residual.FirstPlane = set / setsAlongY * side;
-        residual.NumberOfRows = std::min(side, padded[1] - residual.FirstRow);
-        residual.NumberOfPlanes = std::min(side, padded[2] - residual.FirstPlane);
-        residual.Width = padded[0];
-        const auto row = [&](uint64_t j, uint64_t k) {
+        ResidualRows residual = SetOfRows(set, side, padded);
+        const auto   row = [&](uint64_t j, uint64_t k) {
           return rows->data() + padded[0] * (j - residual.FirstRow + residual.NumberOfRows * (k - residual.FirstPlane));
         };
         // The volume's rows, air in the padding (as the residual volume reads them, FillMuRowSlow()).
@@ -287,18 +304,12 @@ DRRControlVariate::VisitResidualRows(MultiThreaderBase * threader, const Residua
   const DRRAttenuationVolume &         residualVolume = *m_ResidualVolume;
   const DRRAttenuationVolume::SizeType size = residualVolume.GetSize();
   constexpr uint64_t                   side = 8;
-  const uint64_t                       setsAlongY = (size[1] + side - 1) / side;
   DRRAttenuationVolume::ParallelizeBlocksPerWorker(
-    setsAlongY * ((size[2] + side - 1) / side),
+    CountSetsOfRows(side, size),
     [&]() -> DRRAttenuationVolume::BlockFunctionType {
       auto rows = std::make_shared<std::vector<float>>(side * side * size[0]);
       return [&, rows](uint64_t set) {
-        ResidualRows residual;
-        residual.FirstRow = set % setsAlongY * side;
-        residual.FirstPlane = set / setsAlongY * side;
-        residual.NumberOfRows = std::min(side, size[1] - residual.FirstRow);
-        residual.NumberOfPlanes = std::min(side, size[2] - residual.FirstPlane);
-        residual.Width = size[0];
+        ResidualRows residual = SetOfRows(set, side, size);
         residual.Mu = rows->data();
         for (uint64_t z = 0; z < residual.NumberOfPlanes; ++z)
         {
