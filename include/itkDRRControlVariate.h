@@ -132,8 +132,12 @@ public:
         MultiThreaderBase *              threader,
         const ResidualRowsFunctionType & visit);
 
+  /** Throws unless factor is a coarsening factor F: 2 .. MaximumFactor. */
+  static void
+  VerifyFactor(unsigned int factor);
+
   /** The size of the residual's grid (GetResidualVolume()) for a volume of the given size and factor F: the size
-   * padded to a multiple of F per axis. */
+   * padded to a multiple of F per axis. Throws for a factor that is not one (VerifyFactor()). */
   static DRRAttenuationVolume::SizeType
   ComputeResidualSize(const DRRAttenuationVolume::SizeType & size, unsigned int factor);
 

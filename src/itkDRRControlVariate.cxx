@@ -151,13 +151,24 @@ DRRControlVariate::Build(const DRRAttenuationVolume & volume, unsigned int facto
   this->Build(volume, factor, threader, ResidualRowsFunctionType());
 }
 
+void
+DRRControlVariate::VerifyFactor(unsigned int factor)
+{
+  if (factor < 2 || factor > MaximumFactor)
+  {
+    itkGenericExceptionMacro("DRRControlVariate: the coarsening factor must be 2 to " << MaximumFactor << ", not "
+                                                                                      << factor);
+  }
+}
+
 DRRAttenuationVolume::SizeType
 DRRControlVariate::ComputeResidualSize(const DRRAttenuationVolume::SizeType & size, unsigned int factor)
 {
+  VerifyFactor(factor);
   DRRAttenuationVolume::SizeType residual;
   for (unsigned int a = 0; a < 3; ++a)
   {
-    residual[a] = factor == 0 ? size[a] : (size[a] + factor - 1) / factor * factor;
+    residual[a] = (size[a] + factor - 1) / factor * factor;
   }
   return residual;
 }
@@ -168,10 +179,7 @@ DRRControlVariate::Build(const DRRAttenuationVolume &     volume,
                          MultiThreaderBase *              threader,
                          const ResidualRowsFunctionType & visit)
 {
-  if (factor < 2 || factor > MaximumFactor)
-  {
-    itkExceptionMacro("the control variate's coarsening factor must be 2 to " << MaximumFactor << ", not " << factor);
-  }
+  VerifyFactor(factor);
   for (unsigned int a = 0; a < 3; ++a)
   {
     if (volume.GetSize()[a] == 0)
@@ -399,10 +407,7 @@ DRRControlVariate::BeginSlabs(const DRRAttenuationVolume::SizeType &   wholeSize
                               const DRRAttenuationVolume::PointType &  origin,
                               unsigned int                             factor)
 {
-  if (factor < 2 || factor > MaximumFactor)
-  {
-    itkExceptionMacro("the control variate's coarsening factor must be 2 to " << MaximumFactor << ", not " << factor);
-  }
+  VerifyFactor(factor);
   m_Factor = factor;
   m_TotalMass = 0.0;
   m_ResidualVolume = DRRAttenuationVolume::New(); // no residual: each slab has its own

@@ -23,6 +23,7 @@
 #include "itkDRRTransferFunction.h"
 #include "itkImportImageContainer.h"
 #include "itkPlatformMultiThreader.h"
+#include "PointBasedDRRTestHelpers.h"
 
 #include "gtest/gtest.h"
 
@@ -639,5 +640,16 @@ TEST(DRRControlVariate, OnePassGivesTheSplitAndTheTablesOfOneAfterTheOther)
       });
       EXPECT_EQ(std::count(handed.begin(), handed.end(), 1u), static_cast<std::ptrdiff_t>(handed.size())) << context;
     }
+  }
+  // A factor that is none is refused before any table is laid out (F 10^5 would pad the grid to 10^15 voxels).
+  for (const unsigned int factor : { 0u, 1u, itk::DRRControlVariate::MaximumFactor + 1, 100000u })
+  {
+    auto sampler = itk::DRRStratifiedSampler::New();
+    auto split = itk::DRRControlVariate::New();
+    EXPECT_NE(PointBasedDRRTest::ExceptionMessage(
+                [&] { sampler->InitializeWithControlVariate(*split, *volume, factor, nullptr); }, "factor")
+                .find("coarsening factor must be 2 to"),
+              std::string::npos)
+      << "F " << factor;
   }
 }
