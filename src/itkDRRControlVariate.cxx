@@ -78,6 +78,46 @@ AddBlockSums(const float * PointBasedDRR_RESTRICT row,
   }
 }
 
+/** 1 / F^3: a block's mean from its sum (the padding's air counts in the F^3 voxels). */
+double
+InverseBlockVolume(uint64_t factor)
+{
+  return 1.0 / (static_cast<double>(factor) * static_cast<double>(factor) * static_cast<double>(factor));
+}
+
+/** means[q] for the `blocks` blocks of the coarse row (cj, ck) from its fine rows: each block's voxels summed k, then
+ * j, then i, in double, over the rows inside the fine grid (air pads the last blocks), divided by F^3. rowOf(j, k)
+ * gives the fine row (j, k) from the first block's first voxel on, `width` voxels (fewer than blocks F where the
+ * grid ends); sum is room for the blocks' sums. The one account of a block's sum: the coarse volume built alone and in
+ * the sets of rows of a sampler's tables give the same bits through it. */
+template <typename TRowOf>
+void
+MeansOfBlockRow(TRowOf &&                              rowOf,
+                uint64_t                               factor,
+                uint64_t                               cj,
+                uint64_t                               ck,
+                const DRRAttenuationVolume::SizeType & fine,
+                uint64_t                               width,
+                uint64_t                               blocks,
+                std::vector<double> &                  sum,
+                float *                                means)
+{
+  const uint64_t F = factor;
+  sum.assign(blocks, 0.0);
+  for (uint64_t k = ck * F; k < std::min(fine[2], ck * F + F); ++k)
+  {
+    for (uint64_t j = cj * F; j < std::min(fine[1], cj * F + F); ++j)
+    {
+      AddBlockSums(rowOf(j, k), width, F, sum.data());
+    }
+  }
+  const double inverseBlockVolume = InverseBlockVolume(F);
+  for (uint64_t q = 0; q < blocks; ++q)
+  {
+    means[q] = static_cast<float>(sum[q] * inverseBlockVolume);
+  }
+}
+
 /** means[q] = (the F^2 rows' voxels F q .. F q + F - 1 summed row by row, in double) / F^3 for q < blocks: the block
  * means of one coarse row from its fine rows, each block's sum in the order AddBlockSums() adds them, kept in a
  * register instead of an array of sums. */
@@ -223,7 +263,7 @@ DRRControlVariate::BuildInSetsOfRows(const DRRAttenuationVolume &     volume,
   // Sets of side x side rows, side a multiple of F and of the bricks' 8: each holds whole blocks and whole bricks.
   const uint64_t           side = std::max<uint64_t>(8, F);
   const uint64_t           numberOfSets = CountSetsOfRows(side, padded);
-  const double             inverseBlockVolume = 1.0 / static_cast<double>(F * F * F);
+  const double             inverseBlockVolume = InverseBlockVolume(F);
   std::unique_ptr<float[]> coarseMu(new float[coarse[0] * coarse[1] * coarse[2]]);
   float *                  coarseOut = coarseMu.get();
   DRRAttenuationVolume::ParallelizeBlocksPerWorker(
@@ -274,18 +314,7 @@ DRRControlVariate::BuildInSetsOfRows(const DRRAttenuationVolume &     volume,
               MeansOfSmallBlocks(blockRows, F, coarse[0], inverseBlockVolume, means);
               continue;
             }
-            sum->assign(coarse[0], 0.0);
-            for (uint64_t k = ck * F; k < std::min(fine[2], ck * F + F); ++k)
-            {
-              for (uint64_t j = cj * F; j < std::min(fine[1], cj * F + F); ++j)
-              {
-                AddBlockSums(row(j, k), fine[0], F, sum->data());
-              }
-            }
-            for (uint64_t ci = 0; ci < coarse[0]; ++ci)
-            {
-              means[ci] = static_cast<float>((*sum)[ci] * inverseBlockVolume);
-            }
+            MeansOfBlockRow(row, F, cj, ck, fine, fine[0], coarse[0], *sum, means);
           }
         }
         // |mu - mu_c| in place, as the residual volume computes its rows.
@@ -346,9 +375,7 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
   {
     coarse[a] = (fine[a] + F - 1) / F;
   }
-  // Air pads the last blocks: their sums run over the voxels inside, their means over all F^3. The fine rows are read
-  // once per coarse row; each block sums its voxels k, then j, then i.
-  const double inverseBlockVolume = 1.0 / (static_cast<double>(F) * static_cast<double>(F) * static_cast<double>(F));
+  // The fine rows are read once per coarse row (MeansOfBlockRow()).
   m_CoarseVolume->BuildFromMu(
     coarse,
     [&](uint64_t begin, uint64_t end, float * coarseMu) {
@@ -363,19 +390,11 @@ DRRControlVariate::BuildCoarseVolume(const DRRAttenuationVolume & volume, MultiT
         const uint64_t first = ci * F;
         const uint64_t width = std::min(fine[0], (ci + n) * F) - first;
         row.resize(width);
-        sum.assign(n, 0.0);
-        for (uint64_t k = ck * F; k < std::min(fine[2], ck * F + F); ++k)
-        {
-          for (uint64_t j = cj * F; j < std::min(fine[1], cj * F + F); ++j)
-          {
-            volume.FillMuRow(first, j, k, width, row.data());
-            AddBlockSums(row.data(), width, F, sum.data());
-          }
-        }
-        for (uint64_t q = 0; q < n; ++q)
-        {
-          coarseMu[c + q] = static_cast<float>(sum[q] * inverseBlockVolume);
-        }
+        const auto fineRow = [&](uint64_t j, uint64_t k) {
+          volume.FillMuRow(first, j, k, width, row.data());
+          return row.data();
+        };
+        MeansOfBlockRow(fineRow, F, cj, ck, fine, width, n, sum, coarseMu + c);
         c += n;
       }
     },
